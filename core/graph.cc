@@ -1,0 +1,209 @@
+#include "core/graph.h"
+
+#include <limits>
+#include <utility>
+
+#include "core/manifolds.h"
+
+namespace slam {
+
+const char* FactorTypeName(FactorType type) {
+  switch (type) {
+    case FactorType::kBetweenSE2: return "between_se2";
+    case FactorType::kBetweenSE3: return "between_se3";
+    case FactorType::kPriorSE2: return "prior_se2";
+    case FactorType::kPriorSE3: return "prior_se3";
+    case FactorType::kOther: return "other";
+  }
+  return "other";
+}
+
+Graph::Graph()
+    : se2_manifold_(std::make_unique<SE2Manifold>()),
+      se3_manifold_(std::make_unique<SE3Manifold>()) {}
+
+Node* Graph::AddNode(const Key& key, const std::vector<double>& value) {
+  const int expected = AmbientSize(key.kind);
+  if (nodes_.count(key) > 0) return nullptr;
+  if (expected > 0 && static_cast<int>(value.size()) != expected) {
+    return nullptr;
+  }
+  if (value.empty()) return nullptr;
+  auto node = std::make_unique<Node>();
+  node->key = key;
+  node->value = value;
+  Node* raw = node.get();
+  nodes_.emplace(key, std::move(node));
+  return raw;
+}
+
+Node* Graph::FindNode(const Key& key) {
+  auto it = nodes_.find(key);
+  return it == nodes_.end() ? nullptr : it->second.get();
+}
+
+const Node* Graph::FindNode(const Key& key) const {
+  auto it = nodes_.find(key);
+  return it == nodes_.end() ? nullptr : it->second.get();
+}
+
+bool Graph::RemoveNode(const Key& key) {
+  if (nodes_.erase(key) == 0) return false;
+  for (auto it = factors_.begin(); it != factors_.end();) {
+    bool touches = false;
+    for (const Key& k : it->second.keys) touches = touches || (k == key);
+    it = touches ? factors_.erase(it) : std::next(it);
+  }
+  return true;
+}
+
+void Graph::SetFixed(const Key& key, bool fixed) {
+  Node* node = FindNode(key);
+  if (node != nullptr) node->fixed = fixed;
+}
+
+bool Graph::HasFixedNode() const {
+  for (const auto& [key, node] : nodes_) {
+    if (node->fixed) return true;
+  }
+  return false;
+}
+
+FactorId Graph::AddFactor(Factor factor) {
+  if (!factor.cost) return -1;
+  const std::vector<int32_t>& sizes = factor.cost->parameter_block_sizes();
+  if (sizes.size() != factor.keys.size()) return -1;
+  for (size_t i = 0; i < factor.keys.size(); ++i) {
+    const Node* node = FindNode(factor.keys[i]);
+    if (node == nullptr ||
+        static_cast<int>(node->value.size()) != sizes[i]) {
+      return -1;
+    }
+  }
+  const FactorId id = next_factor_id_++;
+  factors_.emplace(id, std::move(factor));
+  return id;
+}
+
+bool Graph::RemoveFactor(FactorId id) { return factors_.erase(id) > 0; }
+
+const Factor* Graph::FindFactor(FactorId id) const {
+  auto it = factors_.find(id);
+  return it == factors_.end() ? nullptr : &it->second;
+}
+
+const ceres::Manifold* Graph::ManifoldFor(NodeKind kind) const {
+  switch (kind) {
+    case NodeKind::kPose2: return se2_manifold_.get();
+    case NodeKind::kPose3: return se3_manifold_.get();
+    default: return nullptr;
+  }
+}
+
+ceres::Problem::Options Graph::ProblemOptions() {
+  ceres::Problem::Options options;
+  options.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  return options;
+}
+
+std::vector<double*> Graph::ParameterBlocks(const Factor& factor) {
+  std::vector<double*> blocks;
+  blocks.reserve(factor.keys.size());
+  for (const Key& k : factor.keys) blocks.push_back(FindNode(k)->value.data());
+  return blocks;
+}
+
+std::vector<const double*> Graph::ParameterBlocks(const Factor& factor) const {
+  std::vector<const double*> blocks;
+  blocks.reserve(factor.keys.size());
+  for (const Key& k : factor.keys) blocks.push_back(FindNode(k)->value.data());
+  return blocks;
+}
+
+void Graph::BuildProblem(ceres::Problem* problem, bool use_loss) const {
+  for (const auto& [key, node] : nodes_) {
+    double* data = const_cast<double*>(node->value.data());
+    problem->AddParameterBlock(data, static_cast<int>(node->value.size()),
+                               const_cast<ceres::Manifold*>(
+                                   ManifoldFor(key.kind)));
+    if (node->fixed) problem->SetParameterBlockConstant(data);
+  }
+  std::vector<double*> blocks;
+  for (const auto& [id, factor] : factors_) {
+    blocks.clear();
+    for (const Key& k : factor.keys) {
+      blocks.push_back(const_cast<double*>(FindNode(k)->value.data()));
+    }
+    problem->AddResidualBlock(factor.cost.get(),
+                              use_loss ? factor.loss.get() : nullptr, blocks);
+  }
+}
+
+bool Graph::FactorChi2(const Factor& factor, double* chi2) const {
+  const std::vector<const double*> blocks = ParameterBlocks(factor);
+  Eigen::VectorXd residuals(factor.cost->num_residuals());
+  if (!factor.cost->Evaluate(blocks.data(), residuals.data(), nullptr)) {
+    return false;
+  }
+  *chi2 = residuals.squaredNorm();
+  return true;
+}
+
+double Graph::Chi2() const {
+  double sum = 0.0;
+  for (const auto& [id, factor] : factors_) {
+    double chi2 = 0.0;
+    if (!FactorChi2(factor, &chi2)) return std::numeric_limits<double>::infinity();
+    sum += chi2;
+  }
+  return sum;
+}
+
+double Graph::RobustChi2() const {
+  double sum = 0.0;
+  for (const auto& [id, factor] : factors_) {
+    double chi2 = 0.0;
+    if (!FactorChi2(factor, &chi2)) return std::numeric_limits<double>::infinity();
+    if (factor.loss) {
+      double rho[3];
+      factor.loss->Evaluate(chi2, rho);
+      sum += rho[0];
+    } else {
+      sum += chi2;
+    }
+  }
+  return sum;
+}
+
+Pose2 MeasurementPose2(const Factor& factor) {
+  const Eigen::VectorXd& m = factor.measurement;
+  return Pose2(m[0], m[1], m[2]);
+}
+
+Pose3 MeasurementPose3(const Factor& factor) {
+  const Eigen::VectorXd& m = factor.measurement;
+  return Pose3(m.head<3>(), Eigen::Quaterniond(m[6], m[3], m[4], m[5]));
+}
+
+Pose2 NodePose2(const Node& node) {
+  return Pose2(node.value[0], node.value[1], node.value[2]);
+}
+
+Pose3 NodePose3(const Node& node) {
+  const std::vector<double>& v = node.value;
+  return Pose3(Eigen::Vector3d(v[0], v[1], v[2]),
+               Eigen::Quaterniond(v[6], v[3], v[4], v[5]));
+}
+
+std::vector<double> Pose2Value(const Pose2& pose) {
+  return {pose.t.x(), pose.t.y(), pose.theta};
+}
+
+std::vector<double> Pose3Value(const Pose3& pose) {
+  return {pose.t.x(),      pose.t.y(),      pose.t.z(),     pose.q.x(),
+          pose.q.y(),      pose.q.z(),      pose.q.w()};
+}
+
+}  // namespace slam

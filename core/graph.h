@@ -1,0 +1,135 @@
+// The factor graph: nodes (typed keys -> parameter vectors) and factors (Ceres
+// cost functions over the nodes, with their measurement and information kept
+// for initialization, reporting and writing back to files).
+//
+// Nodes live behind std::unique_ptr and their value vectors are never
+// resized, so the addresses Ceres uses as parameter-block identities stay
+// valid while nodes and factors are added or removed.
+#ifndef SLAM_CORE_GRAPH_H_
+#define SLAM_CORE_GRAPH_H_
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "ceres/cost_function.h"
+#include "ceres/loss_function.h"
+#include "ceres/manifold.h"
+#include "ceres/problem.h"
+#include "core/conventions.h"
+#include "core/keys.h"
+#include "core/lie.h"
+
+namespace slam {
+
+struct Node {
+  Key key;
+  std::vector<double> value;  // AmbientSize(key.kind) doubles; never resized.
+  bool fixed = false;         // Held constant by the optimizer.
+  TimeNs stamp = 0;           // Only meaningful when has_stamp.
+  bool has_stamp = false;
+};
+
+// The semantic kind of a factor. The graph uses it for bookkeeping (counts by
+// type, initialization from relative measurements, writing back to files);
+// the cost itself is the CostFunction.
+enum class FactorType : uint8_t {
+  kBetweenSE2 = 0,  // keys {i, j}; measurement (x, y, theta) of X_i^-1 X_j.
+  kBetweenSE3,      // keys {i, j}; measurement (t, q xyzw) of X_i^-1 X_j.
+  kPriorSE2,        // keys {i}; measurement (x, y, theta) of X_i.
+  kPriorSE3,        // keys {i}; measurement (t, q xyzw) of X_i.
+  kOther,
+};
+const char* FactorTypeName(FactorType type);
+
+using FactorId = int64_t;
+
+struct Factor {
+  FactorType type = FactorType::kOther;
+  std::vector<Key> keys;
+  // Measurement in node storage form, and information over the error vector
+  // in the factor's documented residual order (see the factor's header).
+  Eigen::VectorXd measurement;
+  Eigen::MatrixXd information;
+  std::shared_ptr<ceres::CostFunction> cost;
+  std::shared_ptr<ceres::LossFunction> loss;  // nullptr: plain least squares.
+};
+
+class Graph {
+ public:
+  Graph();
+  Graph(const Graph&) = delete;
+  Graph& operator=(const Graph&) = delete;
+  Graph(Graph&&) = default;
+  Graph& operator=(Graph&&) = default;
+
+  // Adds a node; returns nullptr if the key exists or the size is wrong.
+  Node* AddNode(const Key& key, const std::vector<double>& value);
+  bool HasNode(const Key& key) const { return nodes_.count(key) > 0; }
+  Node* FindNode(const Key& key);
+  const Node* FindNode(const Key& key) const;
+  // Removes the node and every factor touching it; false if absent.
+  bool RemoveNode(const Key& key);
+  void SetFixed(const Key& key, bool fixed);
+
+  // Adds a factor. Every key must name an existing node and the cost function
+  // parameter block sizes must match the nodes; returns -1 otherwise.
+  FactorId AddFactor(Factor factor);
+  bool RemoveFactor(FactorId id);
+  const Factor* FindFactor(FactorId id) const;
+
+  const std::map<Key, std::unique_ptr<Node>>& nodes() const { return nodes_; }
+  const std::map<FactorId, Factor>& factors() const { return factors_; }
+  size_t NumNodes() const { return nodes_.size(); }
+  size_t NumFactors() const { return factors_.size(); }
+  bool HasFixedNode() const;
+
+  // The manifold used for nodes of this kind (nullptr: Euclidean).
+  const ceres::Manifold* ManifoldFor(NodeKind kind) const;
+
+  // Adds every node and factor to `problem`, which must have been created
+  // with DO_NOT_TAKE_OWNERSHIP for cost, loss and manifold objects (see
+  // ProblemOptions()). Fixed nodes are set constant. With use_loss false the
+  // robust kernels are left out (plain least squares).
+  void BuildProblem(ceres::Problem* problem, bool use_loss = true) const;
+  static ceres::Problem::Options ProblemOptions();
+
+  // Parameter pointers of a factor, in key order.
+  std::vector<double*> ParameterBlocks(const Factor& factor);
+  std::vector<const double*> ParameterBlocks(const Factor& factor) const;
+
+  // Squared whitened error |r|^2 = e^T Omega e of one factor at the current
+  // values (no robust kernel); false if the cost function fails.
+  bool FactorChi2(const Factor& factor, double* chi2) const;
+  // g2o-convention chi2: sum over factors of e^T Omega e (no 1/2, no kernel).
+  double Chi2() const;
+  // sum over factors of rho(e^T Omega e): what a robust optimizer minimizes,
+  // in the same (no 1/2) scale.
+  double RobustChi2() const;
+
+ private:
+  std::map<Key, std::unique_ptr<Node>> nodes_;
+  std::map<FactorId, Factor> factors_;
+  FactorId next_factor_id_ = 0;
+  std::unique_ptr<ceres::Manifold> se2_manifold_;
+  std::unique_ptr<ceres::Manifold> se3_manifold_;
+};
+
+// Measurement of a between/prior factor as a pose (types kBetweenSE2/SE3,
+// kPriorSE2/SE3).
+Pose2 MeasurementPose2(const Factor& factor);
+Pose3 MeasurementPose3(const Factor& factor);
+
+// Node values <-> poses.
+Pose2 NodePose2(const Node& node);
+Pose3 NodePose3(const Node& node);
+std::vector<double> Pose2Value(const Pose2& pose);
+std::vector<double> Pose3Value(const Pose3& pose);
+
+}  // namespace slam
+
+#endif  // SLAM_CORE_GRAPH_H_

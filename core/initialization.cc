@@ -1,0 +1,366 @@
+#include "core/initialization.h"
+
+#include <algorithm>
+#include <deque>
+#include <map>
+#include <numeric>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/SVD>
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
+
+namespace slam {
+namespace {
+
+// The pose part of the graph, indexed 0..n-1 in key order.
+struct PoseGraphView {
+  bool is_3d = false;
+  std::vector<Node*> nodes;
+  std::map<Key, int> index;
+  struct Edge {
+    int a, b;
+    const Factor* factor;
+  };
+  std::vector<Edge> edges;
+  std::vector<std::vector<int>> adjacency;  // Edge indices per node.
+  std::vector<bool> known;                  // Anchors: never written.
+};
+
+bool BuildView(Graph* graph, const std::set<Key>* only, PoseGraphView* view,
+               std::string* error) {
+  bool has2 = false, has3 = false;
+  for (const auto& [id, f] : graph->factors()) {
+    has2 = has2 || f.type == FactorType::kBetweenSE2;
+    has3 = has3 || f.type == FactorType::kBetweenSE3;
+  }
+  if (has2 && has3) {
+    *error = "the graph mixes SE(2) and SE(3) between factors";
+    return false;
+  }
+  view->is_3d = has3;
+  const NodeKind kind = has3 ? NodeKind::kPose3 : NodeKind::kPose2;
+  const FactorType type =
+      has3 ? FactorType::kBetweenSE3 : FactorType::kBetweenSE2;
+  for (const auto& [key, node] : graph->nodes()) {
+    if (key.kind != kind) continue;
+    view->index[key] = static_cast<int>(view->nodes.size());
+    view->nodes.push_back(node.get());
+    view->known.push_back(node->fixed ||
+                          (only != nullptr && only->count(key) == 0));
+  }
+  view->adjacency.resize(view->nodes.size());
+  for (const auto& [id, f] : graph->factors()) {
+    if (f.type != type) continue;
+    const int a = view->index.at(f.keys[0]);
+    const int b = view->index.at(f.keys[1]);
+    if (a == b) continue;
+    view->adjacency[a].push_back(static_cast<int>(view->edges.size()));
+    view->adjacency[b].push_back(static_cast<int>(view->edges.size()));
+    view->edges.push_back({a, b, &f});
+  }
+  return true;
+}
+
+// Sets node `to` from node `from` through edge e.
+void Propagate(const PoseGraphView& view, int e, int from) {
+  const PoseGraphView::Edge& edge = view.edges[e];
+  Node* src = view.nodes[from];
+  Node* dst = view.nodes[from == edge.a ? edge.b : edge.a];
+  if (view.is_3d) {
+    const Pose3 z = MeasurementPose3(*edge.factor);
+    const Pose3 x = NodePose3(*src) * (from == edge.a ? z : z.Inverse());
+    dst->value = Pose3Value(x);
+  } else {
+    const Pose2 z = MeasurementPose2(*edge.factor);
+    const Pose2 x = NodePose2(*src) * (from == edge.a ? z : z.Inverse());
+    dst->value = Pose2Value(x);
+  }
+}
+
+// Marks every node of the connected component of `start` as reached; returns
+// the nodes in breadth-first order.
+std::vector<int> Component(const PoseGraphView& view, int start,
+                           std::vector<bool>* seen) {
+  std::vector<int> order = {start};
+  (*seen)[start] = true;
+  for (size_t k = 0; k < order.size(); ++k) {
+    for (int e : view.adjacency[order[k]]) {
+      const int v = view.edges[e].a == order[k] ? view.edges[e].b
+                                                : view.edges[e].a;
+      if (!(*seen)[v]) {
+        (*seen)[v] = true;
+        order.push_back(v);
+      }
+    }
+  }
+  return order;
+}
+
+// Gives every component without a known node one anchor: its first node.
+std::vector<bool> Anchors(const PoseGraphView& view) {
+  std::vector<bool> anchor = view.known;
+  std::vector<bool> seen(view.nodes.size(), false);
+  for (size_t i = 0; i < view.nodes.size(); ++i) {
+    if (seen[i]) continue;
+    const std::vector<int> comp = Component(view, static_cast<int>(i), &seen);
+    bool has_anchor = false;
+    for (int k : comp) has_anchor = has_anchor || anchor[k];
+    if (!has_anchor) anchor[*std::min_element(comp.begin(), comp.end())] = true;
+  }
+  return anchor;
+}
+
+// Breadth-first propagation from the nodes already set.
+void BreadthFirst(const PoseGraphView& view, std::vector<bool>* set) {
+  std::deque<int> queue;
+  for (size_t i = 0; i < view.nodes.size(); ++i) {
+    if ((*set)[i]) queue.push_back(static_cast<int>(i));
+  }
+  while (!queue.empty()) {
+    const int u = queue.front();
+    queue.pop_front();
+    for (int e : view.adjacency[u]) {
+      const int v = view.edges[e].a == u ? view.edges[e].b : view.edges[e].a;
+      if ((*set)[v]) continue;
+      Propagate(view, e, u);
+      (*set)[v] = true;
+      queue.push_back(v);
+    }
+  }
+}
+
+void Odometry(const PoseGraphView& view, std::vector<bool>* set) {
+  // Edge between consecutive ids, looked up per node.
+  auto chain_edge = [&](int u, int v) {
+    for (int e : view.adjacency[u]) {
+      const auto& edge = view.edges[e];
+      if ((edge.a == u && edge.b == v) || (edge.a == v && edge.b == u)) {
+        return e;
+      }
+    }
+    return -1;
+  };
+  const int n = static_cast<int>(view.nodes.size());
+  for (int k = 1; k < n; ++k) {  // Forward along increasing ids.
+    if ((*set)[k] || !(*set)[k - 1]) continue;
+    if (view.nodes[k]->key.id != view.nodes[k - 1]->key.id + 1) continue;
+    const int e = chain_edge(k - 1, k);
+    if (e < 0) continue;
+    Propagate(view, e, k - 1);
+    (*set)[k] = true;
+  }
+  for (int k = n - 2; k >= 0; --k) {  // Backward from anchors in the middle.
+    if ((*set)[k] || !(*set)[k + 1]) continue;
+    if (view.nodes[k + 1]->key.id != view.nodes[k]->key.id + 1) continue;
+    const int e = chain_edge(k, k + 1);
+    if (e < 0) continue;
+    Propagate(view, e, k + 1);
+    (*set)[k] = true;
+  }
+  BreadthFirst(view, set);
+}
+
+// Linear least squares over per-node d x m blocks X_k:
+//   minimize sum_e |A_a X_a + A_b X_b + C|_W^2  (column-wise, weight W),
+// with the `known` blocks held at their given values.
+struct LinearTerm {
+  int a, b;
+  Eigen::MatrixXd A_a, A_b, W, C;
+};
+
+bool SolveLinear(int d, int m, const std::vector<LinearTerm>& terms,
+                 const std::vector<bool>& known,
+                 std::vector<Eigen::MatrixXd>* x, std::string* error) {
+  const int n = static_cast<int>(known.size());
+  std::vector<int> col(n, -1);
+  int num_unknown = 0;
+  for (int i = 0; i < n; ++i) {
+    if (!known[i]) col[i] = d * num_unknown++;
+  }
+  if (num_unknown == 0) return true;
+  std::vector<Eigen::Triplet<double>> triplets;
+  triplets.reserve(terms.size() * 4 * d * d + num_unknown * d);
+  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(d * num_unknown, m);
+  for (const LinearTerm& t : terms) {
+    Eigen::MatrixXd c = t.C;
+    if (known[t.a]) c += t.A_a * (*x)[t.a];
+    if (known[t.b]) c += t.A_b * (*x)[t.b];
+    const int idx[2] = {t.a, t.b};
+    const Eigen::MatrixXd* blocks[2] = {&t.A_a, &t.A_b};
+    for (int p = 0; p < 2; ++p) {
+      if (known[idx[p]]) continue;
+      const Eigen::MatrixXd atw = blocks[p]->transpose() * t.W;
+      rhs.middleRows(col[idx[p]], d) -= atw * c;
+      for (int q = 0; q < 2; ++q) {
+        if (known[idx[q]]) continue;
+        const Eigen::MatrixXd h = atw * *blocks[q];
+        for (int r = 0; r < d; ++r) {
+          for (int s = 0; s < d; ++s) {
+            triplets.emplace_back(col[idx[p]] + r, col[idx[q]] + s, h(r, s));
+          }
+        }
+      }
+    }
+  }
+  Eigen::SparseMatrix<double> h(d * num_unknown, d * num_unknown);
+  h.setFromTriplets(triplets.begin(), triplets.end());
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(h);
+  if (solver.info() != Eigen::Success) {
+    *error = "the linear system of the chordal initialization is singular";
+    return false;
+  }
+  const Eigen::MatrixXd sol = solver.solve(rhs);
+  if (solver.info() != Eigen::Success || !sol.allFinite()) {
+    *error = "the linear system of the chordal initialization has no solution";
+    return false;
+  }
+  for (int i = 0; i < n; ++i) {
+    if (!known[i]) (*x)[i] = sol.middleRows(col[i], d);
+  }
+  return true;
+}
+
+Eigen::Matrix3d ProjectToSO3(const Eigen::Matrix3d& m) {
+  Eigen::JacobiSVD<Eigen::Matrix3d> svd(m, Eigen::ComputeFullU |
+                                               Eigen::ComputeFullV);
+  Eigen::Matrix3d d = Eigen::Matrix3d::Identity();
+  d(2, 2) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0
+                ? -1.0
+                : 1.0;
+  return svd.matrixU() * d * svd.matrixV().transpose();
+}
+
+bool Chordal(const PoseGraphView& view, const std::vector<bool>& anchor,
+             std::string* error) {
+  const int n = static_cast<int>(view.nodes.size());
+  const int d = view.is_3d ? 3 : 2;
+  const int m = view.is_3d ? 3 : 1;
+  // 1. Rotations. 2D: X_k = (cos, sin) (first column of R_k); constraint
+  // X_b - R_z X_a = 0. 3D: X_k = R_k^T; constraint R_z^T X_a - X_b = 0.
+  std::vector<Eigen::MatrixXd> x(n);
+  for (int i = 0; i < n; ++i) {
+    if (view.is_3d) {
+      x[i] = NodePose3(*view.nodes[i]).q.toRotationMatrix().transpose();
+    } else {
+      const double th = view.nodes[i]->value[2];
+      x[i] = Eigen::Vector2d(std::cos(th), std::sin(th));
+    }
+  }
+  std::vector<LinearTerm> terms;
+  terms.reserve(view.edges.size());
+  for (const auto& edge : view.edges) {
+    LinearTerm t;
+    t.a = edge.a;
+    t.b = edge.b;
+    const Eigen::MatrixXd& info = edge.factor->information;
+    double w;
+    if (view.is_3d) {
+      const Eigen::Matrix3d rz =
+          MeasurementPose3(*edge.factor).q.toRotationMatrix();
+      t.A_a = rz.transpose();
+      t.A_b = -Eigen::Matrix3d::Identity();
+      w = info.bottomRightCorner<3, 3>().trace() / 3.0;
+    } else {
+      t.A_a = -RotationMatrix2D(MeasurementPose2(*edge.factor).theta);
+      t.A_b = Eigen::Matrix2d::Identity();
+      w = info(2, 2);
+    }
+    t.W = Eigen::MatrixXd::Identity(d, d) * std::max(w, 1e-12);
+    t.C = Eigen::MatrixXd::Zero(d, m);
+    terms.push_back(std::move(t));
+  }
+  if (!SolveLinear(d, m, terms, anchor, &x, error)) return false;
+  std::vector<Eigen::MatrixXd> rot(n);
+  for (int i = 0; i < n; ++i) {
+    if (view.is_3d) {
+      rot[i] = anchor[i] ? NodePose3(*view.nodes[i]).q.toRotationMatrix()
+                         : ProjectToSO3(x[i].transpose());
+    } else {
+      const double th = anchor[i] ? view.nodes[i]->value[2]
+                                  : std::atan2(x[i](1, 0), x[i](0, 0));
+      rot[i] = RotationMatrix2D(th);
+    }
+  }
+  // 2. Translations with rotations fixed: t_b - t_a - R_a t_z = 0, weighted
+  // by the translation block of the information rotated into the world.
+  std::vector<Eigen::MatrixXd> t(n);
+  for (int i = 0; i < n; ++i) {
+    t[i] = Eigen::Map<const Eigen::VectorXd>(view.nodes[i]->value.data(), d);
+  }
+  terms.clear();
+  for (const auto& edge : view.edges) {
+    LinearTerm term;
+    term.a = edge.a;
+    term.b = edge.b;
+    term.A_a = -Eigen::MatrixXd::Identity(d, d);
+    term.A_b = Eigen::MatrixXd::Identity(d, d);
+    const Eigen::MatrixXd info_t = edge.factor->information.topLeftCorner(d, d);
+    const Eigen::MatrixXd& ra = rot[edge.a];
+    term.W = ra * info_t * ra.transpose();
+    const Eigen::VectorXd tz = edge.factor->measurement.head(d);
+    term.C = -ra * tz;
+    terms.push_back(std::move(term));
+  }
+  if (!SolveLinear(d, 1, terms, anchor, &t, error)) return false;
+  for (int i = 0; i < n; ++i) {
+    if (anchor[i]) continue;
+    if (view.is_3d) {
+      const Eigen::Matrix3d r = rot[i];
+      view.nodes[i]->value =
+          Pose3Value(Pose3(t[i], Eigen::Quaterniond(r).normalized()));
+    } else {
+      view.nodes[i]->value = Pose2Value(
+          Pose2(t[i](0), t[i](1), std::atan2(rot[i](1, 0), rot[i](0, 0))));
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+const char* InitMethodName(InitMethod method) {
+  switch (method) {
+    case InitMethod::kNone: return "none";
+    case InitMethod::kOdometry: return "odometry";
+    case InitMethod::kSpanningTree: return "spanning_tree";
+    case InitMethod::kChordal: return "chordal";
+  }
+  return "none";
+}
+
+bool ParseInitMethod(const std::string& text, InitMethod* method) {
+  for (InitMethod m : {InitMethod::kNone, InitMethod::kOdometry,
+                       InitMethod::kSpanningTree, InitMethod::kChordal}) {
+    if (text == InitMethodName(m)) {
+      *method = m;
+      return true;
+    }
+  }
+  return false;
+}
+
+bool InitializePoses(Graph* graph, InitMethod method, std::string* error,
+                     const std::set<Key>* only) {
+  if (method == InitMethod::kNone) return true;
+  PoseGraphView view;
+  if (!BuildView(graph, only, &view, error)) return false;
+  if (view.nodes.empty()) return true;
+  std::vector<bool> anchor = Anchors(view);
+  switch (method) {
+    case InitMethod::kOdometry:
+      Odometry(view, &anchor);
+      return true;
+    case InitMethod::kSpanningTree:
+      BreadthFirst(view, &anchor);
+      return true;
+    case InitMethod::kChordal:
+      return Chordal(view, anchor, error);
+    case InitMethod::kNone:
+      break;
+  }
+  return true;
+}
+
+}  // namespace slam

@@ -1,0 +1,40 @@
+// Initial guesses for pose graphs, computed from the relative-pose (between)
+// factors. Every method keeps the anchor nodes where they are: the fixed
+// nodes if any, else the first node (lowest key) of each connected component.
+//
+//   kNone          keep the values as they are (e.g. as read from the file).
+//   kOdometry      compose the measurements along increasing ids
+//                  (X_{k+1} = X_k Z_{k,k+1}); nodes the chain does not reach
+//                  are reached breadth-first through any between factor.
+//   kSpanningTree  breadth-first from the anchors through all between factors,
+//                  each node set by the first factor that reaches it (g2o's
+//                  -guess with unit edge cost).
+//   kChordal       chordal relaxation (Carlone et al., ICRA 2015): rotations
+//                  first, as an unconstrained linear least-squares problem over
+//                  rotation-matrix entries projected back onto SO(2)/SO(3);
+//                  then translations by linear least squares with the
+//                  rotations held fixed.
+#ifndef SLAM_CORE_INITIALIZATION_H_
+#define SLAM_CORE_INITIALIZATION_H_
+
+#include <set>
+#include <string>
+
+#include "core/graph.h"
+
+namespace slam {
+
+enum class InitMethod { kNone, kOdometry, kSpanningTree, kChordal };
+const char* InitMethodName(InitMethod method);
+bool ParseInitMethod(const std::string& text, InitMethod* method);
+
+// Initializes the pose nodes (SE(2) or SE(3), not mixed) of the graph. If
+// `only` is given, only those nodes are written (the others act as already
+// known). Returns false with *error when the graph mixes SE(2) and SE(3)
+// between factors or a linear system cannot be solved.
+bool InitializePoses(Graph* graph, InitMethod method, std::string* error,
+                     const std::set<Key>* only = nullptr);
+
+}  // namespace slam
+
+#endif  // SLAM_CORE_INITIALIZATION_H_

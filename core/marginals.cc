@@ -1,0 +1,62 @@
+#include "core/marginals.h"
+
+#include <utility>
+
+#include "ceres/covariance.h"
+#include "ceres/problem.h"
+
+namespace slam {
+
+bool ComputeMarginals(Graph* graph, const std::vector<Key>& keys,
+                      std::map<Key, Eigen::MatrixXd>* covariances,
+                      std::string* error) {
+  for (const Key& key : keys) {
+    if (!graph->HasNode(key)) {
+      *error = "no node " + key.ToString() + " in the graph";
+      return false;
+    }
+  }
+  ceres::Problem problem(Graph::ProblemOptions());
+  graph->BuildProblem(&problem);
+  bool has_prior = false;
+  for (const auto& [id, f] : graph->factors()) {
+    has_prior = has_prior || f.keys.size() == 1;
+  }
+  if (!graph->HasFixedNode() && !has_prior && graph->NumNodes() > 0) {
+    problem.SetParameterBlockConstant(
+        graph->nodes().begin()->second->value.data());
+  }
+  ceres::Covariance::Options options;
+  options.algorithm_type = ceres::SPARSE_QR;
+  options.sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
+  options.num_threads = 2;
+  ceres::Covariance covariance(options);
+  std::vector<std::pair<const double*, const double*>> blocks;
+  for (const Key& key : keys) {
+    const double* data = graph->FindNode(key)->value.data();
+    blocks.emplace_back(data, data);
+  }
+  if (!covariance.Compute(blocks, &problem)) {
+    *error =
+        "the system is rank deficient: some nodes are not determined by the "
+        "factors (disconnected parts, or too few constraints), so their "
+        "covariance is undefined";
+    return false;
+  }
+  for (const Key& key : keys) {
+    const Node* node = graph->FindNode(key);
+    const int n = TangentSize(key.kind) > 0 ? TangentSize(key.kind)
+                                           : static_cast<int>(node->value.size());
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> c(n,
+                                                                            n);
+    if (!covariance.GetCovarianceBlockInTangentSpace(
+            node->value.data(), node->value.data(), c.data())) {
+      *error = "could not extract the covariance of " + key.ToString();
+      return false;
+    }
+    (*covariances)[key] = c;
+  }
+  return true;
+}
+
+}  // namespace slam

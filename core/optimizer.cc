@@ -1,0 +1,167 @@
+#include "core/optimizer.h"
+
+#include <chrono>
+#include <cstdio>
+
+#include "ceres/iteration_callback.h"
+#include "ceres/problem.h"
+#include "ceres/solver.h"
+
+namespace slam {
+namespace {
+
+class ProgressPrinter : public ceres::IterationCallback {
+ public:
+  explicit ProgressPrinter(std::ostream* out) : out_(out) {}
+  ceres::CallbackReturnType operator()(
+      const ceres::IterationSummary& s) override {
+    char line[256];
+    std::snprintf(line, sizeof(line),
+                  "iter %4d  chi2 %-18.10g  dchi2 %-12.4g  |step| %-11.4g "
+                  "radius %-9.3g %s  %8.4f s",
+                  s.iteration, CeresCostToChi2(s.cost),
+                  CeresCostToChi2(s.cost_change), s.step_norm,
+                  s.trust_region_radius,
+                  s.iteration == 0 ? "    "
+                  : s.step_is_successful ? "ok  "
+                                         : "rej ",
+                  s.cumulative_time_in_seconds);
+    *out_ << line << "\n";
+    out_->flush();
+    return ceres::SOLVER_CONTINUE;
+  }
+
+ private:
+  std::ostream* out_;
+};
+
+bool HasPrior(const Graph& graph) {
+  for (const auto& [id, f] : graph.factors()) {
+    if (f.keys.size() == 1) return true;
+  }
+  return false;
+}
+
+ceres::LinearSolverType LinearSolverFromName(const std::string& name,
+                                             bool* ok) {
+  *ok = true;
+  if (name == "auto" || name == "sparse_normal_cholesky") {
+    return ceres::SPARSE_NORMAL_CHOLESKY;
+  }
+  if (name == "dense_qr") return ceres::DENSE_QR;
+  if (name == "dense_normal_cholesky") return ceres::DENSE_NORMAL_CHOLESKY;
+  if (name == "sparse_schur") return ceres::SPARSE_SCHUR;
+  if (name == "dense_schur") return ceres::DENSE_SCHUR;
+  if (name == "iterative_schur") return ceres::ITERATIVE_SCHUR;
+  if (name == "cgnr") return ceres::CGNR;
+  *ok = false;
+  return ceres::SPARSE_NORMAL_CHOLESKY;
+}
+
+}  // namespace
+
+const char* SolverKindName(SolverKind kind) {
+  switch (kind) {
+    case SolverKind::kLevenbergMarquardt: return "lm";
+    case SolverKind::kGaussNewton: return "gn";
+    case SolverKind::kDogleg: return "dogleg";
+  }
+  return "lm";
+}
+
+bool ParseSolverKind(const std::string& text, SolverKind* kind) {
+  if (text == "lm") {
+    *kind = SolverKind::kLevenbergMarquardt;
+  } else if (text == "gn") {
+    *kind = SolverKind::kGaussNewton;
+  } else if (text == "dogleg") {
+    *kind = SolverKind::kDogleg;
+  } else {
+    return false;
+  }
+  return true;
+}
+
+OptimizerSummary Optimize(Graph* graph, const OptimizerOptions& options,
+                          std::ostream* progress) {
+  OptimizerSummary summary;
+  const auto start = std::chrono::steady_clock::now();
+  summary.initial_chi2 = graph->Chi2();
+  summary.initial_robust_chi2 = graph->RobustChi2();
+
+  ceres::Problem problem(Graph::ProblemOptions());
+  graph->BuildProblem(&problem);
+  if (graph->HasFixedNode()) {
+    summary.gauge = "fixed nodes";
+  } else if (HasPrior(*graph)) {
+    summary.gauge = "prior factors";
+  } else if (graph->NumNodes() > 0) {
+    Node* first = graph->nodes().begin()->second.get();
+    problem.SetParameterBlockConstant(first->value.data());
+    summary.gauge = "first node " + first->key.ToString() + " held constant";
+  }
+
+  ceres::Solver::Options solver_options;
+  bool linear_ok = true;
+  solver_options.linear_solver_type =
+      LinearSolverFromName(options.linear_solver, &linear_ok);
+  if (!linear_ok) {
+    summary.termination = "unknown linear solver '" + options.linear_solver + "'";
+    return summary;
+  }
+  solver_options.sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
+  solver_options.max_num_iterations = options.max_iterations;
+  solver_options.function_tolerance = options.function_tolerance;
+  solver_options.gradient_tolerance = options.gradient_tolerance;
+  solver_options.parameter_tolerance = options.parameter_tolerance;
+  solver_options.num_threads = options.num_threads;
+  solver_options.minimizer_progress_to_stdout = false;
+  solver_options.logging_type = ceres::SILENT;
+  switch (options.solver) {
+    case SolverKind::kLevenbergMarquardt:
+      solver_options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+      break;
+    case SolverKind::kGaussNewton:
+      solver_options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+      solver_options.initial_trust_region_radius = 1e16;
+      solver_options.max_trust_region_radius = 1e16;
+      solver_options.min_lm_diagonal = 1e-32;
+      solver_options.max_lm_diagonal = 1e-32;
+      break;
+    case SolverKind::kDogleg:
+      solver_options.trust_region_strategy_type = ceres::DOGLEG;
+      break;
+  }
+  ProgressPrinter printer(progress);
+  if (options.verbose && progress != nullptr) {
+    solver_options.callbacks.push_back(&printer);
+  }
+
+  ceres::Solver::Summary ceres_summary;
+  ceres::Solve(solver_options, &problem, &ceres_summary);
+
+  summary.iterations = static_cast<int>(ceres_summary.iterations.size()) - 1;
+  summary.converged = ceres_summary.termination_type == ceres::CONVERGENCE;
+  summary.usable = ceres_summary.IsSolutionUsable();
+  summary.termination = ceres_summary.message;
+  summary.linear_solver =
+      ceres::LinearSolverTypeToString(ceres_summary.linear_solver_type_used);
+  summary.final_chi2 = graph->Chi2();
+  summary.final_robust_chi2 = graph->RobustChi2();
+  summary.solve_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+          .count();
+  if (options.verbose && progress != nullptr) {
+    char line[256];
+    std::snprintf(line, sizeof(line),
+                  "done: %d iterations, chi2 %.10g -> %.10g, %.4f s, %s (%s)",
+                  summary.iterations, summary.initial_chi2, summary.final_chi2,
+                  summary.solve_seconds,
+                  summary.converged ? "converged" : "NOT converged",
+                  summary.termination.c_str());
+    *progress << line << "\n";
+  }
+  return summary;
+}
+
+}  // namespace slam

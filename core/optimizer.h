@@ -1,0 +1,60 @@
+// Global batch optimization of a Graph with Ceres.
+//
+// chi2 figures follow g2o (core/conventions.h): sum e^T Omega e, no 1/2.
+#ifndef SLAM_CORE_OPTIMIZER_H_
+#define SLAM_CORE_OPTIMIZER_H_
+
+#include <ostream>
+#include <string>
+
+#include "core/graph.h"
+
+namespace slam {
+
+enum class SolverKind {
+  kLevenbergMarquardt,  // Ceres trust region, LM strategy (default).
+  kGaussNewton,         // LM with an effectively infinite trust region:
+                        // every step is the Gauss-Newton step.
+  kDogleg,              // Ceres trust region, traditional dogleg.
+};
+const char* SolverKindName(SolverKind kind);
+bool ParseSolverKind(const std::string& text, SolverKind* kind);
+
+struct OptimizerOptions {
+  SolverKind solver = SolverKind::kLevenbergMarquardt;
+  int max_iterations = 100;
+  // Ceres' three convergence tests (see ceres::Solver::Options).
+  double function_tolerance = 1e-10;
+  double gradient_tolerance = 1e-10;
+  double parameter_tolerance = 1e-10;
+  // "auto" picks sparse_normal_cholesky (SuiteSparse); also
+  // "dense_qr", "dense_normal_cholesky", "sparse_schur", "dense_schur",
+  // "iterative_schur", "cgnr".
+  std::string linear_solver = "auto";
+  int num_threads = 2;
+  // Print one line per iteration and a final summary line to `progress`.
+  bool verbose = true;
+};
+
+struct OptimizerSummary {
+  double initial_chi2 = 0.0;         // sum e^T Omega e before.
+  double final_chi2 = 0.0;           // ... after.
+  double initial_robust_chi2 = 0.0;  // sum rho(e^T Omega e) before.
+  double final_robust_chi2 = 0.0;
+  int iterations = 0;        // Ceres iterations (successful or not).
+  bool converged = false;    // Stopped on a convergence test.
+  bool usable = false;       // Result usable (converged or hit the limit).
+  double solve_seconds = 0.0;
+  std::string linear_solver;  // What was used.
+  std::string termination;    // Ceres' message.
+  std::string gauge;          // How the gauge freedom was removed.
+};
+
+// Optimizes the graph in place. The gauge: fixed nodes if any; else, when
+// there is no prior factor, the first node (lowest key) is held constant.
+OptimizerSummary Optimize(Graph* graph, const OptimizerOptions& options,
+                          std::ostream* progress);
+
+}  // namespace slam
+
+#endif  // SLAM_CORE_OPTIMIZER_H_

@@ -1,0 +1,64 @@
+// Helpers shared by the tests: where real data and fixtures live, temporary
+// directories, and running the `slam` binary.
+#ifndef SLAM_TESTS_TEST_UTIL_H_
+#define SLAM_TESTS_TEST_UTIL_H_
+
+#include <cstdlib>
+#include <filesystem>
+#include <sys/wait.h>
+#include <unistd.h>
+#include <string>
+
+#include "gtest/gtest.h"
+
+namespace slam::testing {
+
+// $SLAM_DATASETS, else ../shared/datasets beside the checkout.
+inline std::string DatasetsDir() {
+  const char* env = std::getenv("SLAM_DATASETS");
+  return env != nullptr ? std::string(env) : std::string(SLAM_DEFAULT_DATASETS_DIR);
+}
+
+inline std::string DatasetPath(const std::string& relative) {
+  return DatasetsDir() + "/" + relative;
+}
+
+// Handmade fixtures committed beside the tests.
+inline std::string FixturePath(const std::string& name) {
+  return std::string(SLAM_TEST_DATA_DIR) + "/" + name;
+}
+
+// A fresh empty directory under the system temp dir, named after the test.
+inline std::string TempDir() {
+  const ::testing::TestInfo* info =
+      ::testing::UnitTest::GetInstance()->current_test_info();
+  std::filesystem::path dir = std::filesystem::temp_directory_path() /
+                              ("slam_test_" + std::string(info->test_suite_name()) +
+                               "_" + info->name() + "_" +
+                               std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir.string();
+}
+
+// Runs the slam binary with `args`; returns its exit code. stdout and stderr
+// go to `log` (a file path) when given.
+inline int RunSlam(const std::string& args, const std::string& log = "") {
+  std::string cmd = std::string(SLAM_BINARY) + " " + args;
+  if (!log.empty()) cmd += " > '" + log + "' 2>&1";
+  const int status = std::system(cmd.c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+}  // namespace slam::testing
+
+// Skips the current test with a message when a real-data file is absent.
+#define SLAM_REQUIRE_DATASET(path)                                         \
+  do {                                                                     \
+    if (!std::filesystem::exists(path)) {                                  \
+      GTEST_SKIP() << "dataset not found: " << (path)                      \
+                   << " (set SLAM_DATASETS to the shared datasets folder)"; \
+    }                                                                      \
+  } while (0)
+
+#endif  // SLAM_TESTS_TEST_UTIL_H_
