@@ -87,6 +87,13 @@ FactorId Graph::AddFactor(Factor factor) {
 
 bool Graph::RemoveFactor(FactorId id) { return factors_.erase(id) > 0; }
 
+bool Graph::SetLoss(FactorId id, std::shared_ptr<ceres::LossFunction> loss) {
+  auto it = factors_.find(id);
+  if (it == factors_.end()) return false;
+  it->second.loss = std::move(loss);
+  return true;
+}
+
 const Factor* Graph::FindFactor(FactorId id) const {
   auto it = factors_.find(id);
   return it == factors_.end() ? nullptr : &it->second;

@@ -80,6 +80,8 @@ class Graph {
   // parameter block sizes must match the nodes; returns -1 otherwise.
   FactorId AddFactor(Factor factor);
   bool RemoveFactor(FactorId id);
+  // Sets the robust kernel of a factor (nullptr: none); false if absent.
+  bool SetLoss(FactorId id, std::shared_ptr<ceres::LossFunction> loss);
   const Factor* FindFactor(FactorId id) const;
 
   const std::map<Key, std::unique_ptr<Node>>& nodes() const { return nodes_; }

@@ -8,16 +8,23 @@
 
 namespace slam {
 
-bool IsPositiveDefinite(const Eigen::MatrixXd& information) {
+namespace {
+
+// Symmetry and finiteness checks shared by the two functions below.
+bool SymmetricAndFinite(const Eigen::MatrixXd& information) {
   if (information.rows() != information.cols() || information.rows() == 0) {
     return false;
   }
   if (!information.allFinite()) return false;
   const double scale = information.cwiseAbs().maxCoeff();
-  if ((information - information.transpose()).cwiseAbs().maxCoeff() >
-      1e-9 * std::max(scale, 1e-300)) {
-    return false;
-  }
+  return (information - information.transpose()).cwiseAbs().maxCoeff() <=
+         1e-9 * std::max(scale, 1e-300);
+}
+
+}  // namespace
+
+bool IsPositiveDefinite(const Eigen::MatrixXd& information) {
+  if (!SymmetricAndFinite(information)) return false;
   Eigen::LLT<Eigen::MatrixXd> llt(information);
   if (llt.info() != Eigen::Success) return false;
   // LLT succeeds on some matrices with a zero pivot that rounding made
@@ -26,11 +33,15 @@ bool IsPositiveDefinite(const Eigen::MatrixXd& information) {
   return (diag.array() > 0.0).all();
 }
 
+
 bool SqrtInformation(const Eigen::MatrixXd& information,
                      Eigen::MatrixXd* sqrt_information) {
-  if (!IsPositiveDefinite(information)) return false;
+  if (!SymmetricAndFinite(information)) return false;
   Eigen::LLT<Eigen::MatrixXd> llt(information);
-  *sqrt_information = llt.matrixL().transpose();
+  if (llt.info() != Eigen::Success) return false;
+  const Eigen::MatrixXd l = llt.matrixL();
+  if (!(l.diagonal().array() > 0.0).all()) return false;
+  *sqrt_information = l.transpose();
   return true;
 }
 
@@ -40,7 +51,10 @@ Eigen::MatrixXd NearestPositiveDefinite(const Eigen::MatrixXd& information,
   const Eigen::MatrixXd sym = 0.5 * (information + information.transpose());
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(sym);
   Eigen::VectorXd values = eig.eigenvalues();
-  const double max_value = std::max(values.maxCoeff(), 0.0);
+  const double max_value = values.maxCoeff();
+  // Nothing positive to keep (zero or negative semidefinite): not a rounding
+  // problem; return the symmetrized input, which callers see is not PD.
+  if (!(max_value > 0.0)) return sym;
   const double floor_value =
       std::max(relative_floor * max_value, absolute_floor);
   for (int i = 0; i < values.size(); ++i) {

@@ -19,7 +19,9 @@ bool IsPositiveDefinite(const Eigen::MatrixXd& information);
 
 // The nearest (Frobenius) symmetric positive-definite matrix: symmetrize,
 // then clamp eigenvalues below `relative_floor * max_eigenvalue` (or
-// `absolute_floor` if that is larger) up to that floor.
+// `absolute_floor` if that is larger) up to that floor. A matrix without a
+// positive eigenvalue cannot be repaired and is returned symmetrized (still
+// not positive definite).
 Eigen::MatrixXd NearestPositiveDefinite(const Eigen::MatrixXd& information,
                                         double relative_floor = 1e-9,
                                         double absolute_floor = 1e-12);

@@ -298,7 +298,15 @@ bool Chordal(const PoseGraphView& view, const std::vector<bool>& anchor,
     term.A_b = Eigen::MatrixXd::Identity(d, d);
     const Eigen::MatrixXd info_t = edge.factor->information.topLeftCorner(d, d);
     const Eigen::MatrixXd& ra = rot[edge.a];
-    term.W = ra * info_t * ra.transpose();
+    // The error t_E = (R_a R_z)^T (t_b - t_a - R_a t_z) lives in the frame of
+    // X_a Z: rotate the information by R_a R_z, not R_a alone.
+    const Eigen::MatrixXd raz =
+        ra * (view.is_3d
+                  ? Eigen::MatrixXd(
+                        MeasurementPose3(*edge.factor).q.toRotationMatrix())
+                  : Eigen::MatrixXd(RotationMatrix2D(
+                        MeasurementPose2(*edge.factor).theta)));
+    term.W = raz * info_t * raz.transpose();
     const Eigen::VectorXd tz = edge.factor->measurement.head(d);
     term.C = -ra * tz;
     terms.push_back(std::move(term));

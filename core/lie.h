@@ -17,7 +17,11 @@ template <typename T>
 T NormalizeAngle(const T& angle) {
   using std::floor;
   const T two_pi(2.0 * M_PI);
-  return angle - two_pi * floor((angle + T(M_PI)) / two_pi);
+  T wrapped = angle - two_pi * floor((angle + T(M_PI)) / two_pi);
+  // Rounding can land one ulp outside [-pi, pi) (e.g. for pi - 1 ulp).
+  if (wrapped < T(-M_PI)) wrapped += two_pi;
+  if (wrapped >= T(M_PI)) wrapped -= two_pi;
+  return wrapped;
 }
 
 template <typename T>

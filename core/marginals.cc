@@ -1,5 +1,6 @@
 #include "core/marginals.h"
 
+#include <set>
 #include <utility>
 
 #include "ceres/covariance.h"
@@ -31,10 +32,24 @@ bool ComputeMarginals(Graph* graph, const std::vector<Key>& keys,
   options.sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
   options.num_threads = 2;
   ceres::Covariance covariance(options);
+  // A free node that no factor touches is not determined at all, but Ceres
+  // would report a zero covariance for it: refuse, as for rank deficiency.
+  std::set<Key> constrained;
+  for (const auto& [id, f] : graph->factors()) {
+    constrained.insert(f.keys.begin(), f.keys.end());
+  }
   std::vector<std::pair<const double*, const double*>> blocks;
+  std::set<const double*> requested;  // Ceres aborts on duplicate blocks.
   for (const Key& key : keys) {
     const double* data = graph->FindNode(key)->value.data();
-    blocks.emplace_back(data, data);
+    if (constrained.count(key) == 0 &&
+        !problem.IsParameterBlockConstant(data)) {
+      *error = "the system is rank deficient: node " + key.ToString() +
+               " is not constrained by any factor, so its covariance is "
+               "undefined";
+      return false;
+    }
+    if (requested.insert(data).second) blocks.emplace_back(data, data);
   }
   if (!covariance.Compute(blocks, &problem)) {
     *error =

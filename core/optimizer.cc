@@ -2,8 +2,14 @@
 
 #include <chrono>
 #include <cstdio>
+#include <map>
+#include <memory>
+#include <utility>
+#include <vector>
 
 #include "ceres/iteration_callback.h"
+#include "ceres/ordered_groups.h"
+#include "core/ordering.h"
 #include "ceres/problem.h"
 #include "ceres/solver.h"
 
@@ -56,6 +62,38 @@ ceres::LinearSolverType LinearSolverFromName(const std::string& name,
   if (name == "cgnr") return ceres::CGNR;
   *ok = false;
   return ceres::SPARSE_NORMAL_CHOLESKY;
+}
+
+// Hands Ceres a complete elimination order computed by CHOLMOD.
+bool SetOrdering(const Graph& graph, const std::string& method,
+                 ceres::Solver::Options* solver_options, std::string* used,
+                 std::string* error) {
+  std::map<Key, int> index;
+  std::vector<double*> blocks;
+  for (const auto& [key, node] : graph.nodes()) {
+    index[key] = static_cast<int>(blocks.size());
+    blocks.push_back(const_cast<double*>(node->value.data()));
+  }
+  std::vector<std::pair<int, int>> edges;
+  for (const auto& [id, f] : graph.factors()) {
+    for (size_t a = 0; a < f.keys.size(); ++a) {
+      for (size_t b = a + 1; b < f.keys.size(); ++b) {
+        edges.emplace_back(index[f.keys[a]], index[f.keys[b]]);
+      }
+    }
+  }
+  OrderingResult result;
+  if (!FillReducingOrdering(static_cast<int>(blocks.size()), edges, method,
+                            &result, error)) {
+    return false;
+  }
+  auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
+  for (size_t k = 0; k < result.order.size(); ++k) {
+    ordering->AddElementToGroup(blocks[result.order[k]], static_cast<int>(k));
+  }
+  solver_options->linear_solver_ordering = ordering;
+  *used = result.method;
+  return true;
 }
 
 }  // namespace
@@ -117,6 +155,8 @@ OptimizerSummary Optimize(Graph* graph, const OptimizerOptions& options,
   solver_options.num_threads = options.num_threads;
   solver_options.minimizer_progress_to_stdout = false;
   solver_options.logging_type = ceres::SILENT;
+  solver_options.initial_trust_region_radius =
+      options.initial_trust_region_radius;
   switch (options.solver) {
     case SolverKind::kLevenbergMarquardt:
       solver_options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
@@ -132,6 +172,18 @@ OptimizerSummary Optimize(Graph* graph, const OptimizerOptions& options,
       solver_options.trust_region_strategy_type = ceres::DOGLEG;
       break;
   }
+  const bool sparse_cholesky =
+      solver_options.linear_solver_type == ceres::SPARSE_NORMAL_CHOLESKY;
+  summary.ordering = "ceres";
+  if (sparse_cholesky && options.ordering != "ceres" &&
+      graph->NumNodes() > 1) {
+    std::string ordering_error;
+    if (!SetOrdering(*graph, options.ordering, &solver_options,
+                     &summary.ordering, &ordering_error)) {
+      summary.termination = ordering_error;
+      return summary;
+    }
+  }
   ProgressPrinter printer(progress);
   if (options.verbose && progress != nullptr) {
     solver_options.callbacks.push_back(&printer);
@@ -144,6 +196,7 @@ OptimizerSummary Optimize(Graph* graph, const OptimizerOptions& options,
   summary.converged = ceres_summary.termination_type == ceres::CONVERGENCE;
   summary.usable = ceres_summary.IsSolutionUsable();
   summary.termination = ceres_summary.message;
+  summary.full_report = ceres_summary.FullReport();
   summary.linear_solver =
       ceres::LinearSolverTypeToString(ceres_summary.linear_solver_type_used);
   summary.final_chi2 = graph->Chi2();

@@ -31,6 +31,14 @@ struct OptimizerOptions {
   // "dense_qr", "dense_normal_cholesky", "sparse_schur", "dense_schur",
   // "iterative_schur", "cgnr".
   std::string linear_solver = "auto";
+  // Elimination order for the sparse Cholesky solvers: "auto" (CHOLMOD picks
+  // the least fill of AMD, METIS and NESDIS on the node graph; see
+  // core/ordering.h), "amd", "metis", "nesdis", or "ceres" (Ceres' own).
+  std::string ordering = "auto";
+  // LM/dogleg: initial trust-region radius (Ceres' default is 1e4). A large
+  // radius lets the first steps be (nearly) Gauss-Newton steps, which from a
+  // good initial guess saves many iterations.
+  double initial_trust_region_radius = 1e4;
   int num_threads = 2;
   // Print one line per iteration and a final summary line to `progress`.
   bool verbose = true;
@@ -46,8 +54,10 @@ struct OptimizerSummary {
   bool usable = false;       // Result usable (converged or hit the limit).
   double solve_seconds = 0.0;
   std::string linear_solver;  // What was used.
+  std::string ordering;       // Elimination ordering used.
   std::string termination;    // Ceres' message.
   std::string gauge;          // How the gauge freedom was removed.
+  std::string full_report;    // Ceres' FullReport (timing breakdown).
 };
 
 // Optimizes the graph in place. The gauge: fixed nodes if any; else, when

@@ -23,8 +23,8 @@ class BetweenSE3Factor {
   BetweenSE3Factor(const Eigen::Vector3d& t_measured,
                    const Eigen::Quaterniond& q_measured,
                    const Eigen::Matrix<double, 6, 6>& sqrt_information)
-      : t_inv_(-(q_measured.conjugate() * t_measured)),
-        q_inv_(q_measured.conjugate().normalized()),
+      : t_inv_(-(q_measured.normalized().conjugate() * t_measured)),
+        q_inv_(q_measured.normalized().conjugate()),
         sqrt_information_(sqrt_information) {}
 
   template <typename T>

@@ -1,0 +1,725 @@
+#include "core/evaluation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <limits>
+
+#include <Eigen/Geometry>
+#include <Eigen/SVD>
+
+namespace slam {
+namespace {
+
+std::string Format(const char* fmt, double a) {
+  char buf[128];
+  std::snprintf(buf, sizeof(buf), fmt, a);
+  return buf;
+}
+
+std::string Seconds(TimeNs ns) { return Format("%.6f", NsToSeconds(ns)); }
+
+// Relative pose a^-1 b.
+Pose3 Between(const Pose3& a, const Pose3& b) { return a.Inverse() * b; }
+
+}  // namespace
+
+// ---------------------------------------------------------------- statistics
+
+ErrorStatistics ComputeErrorStatistics(const std::vector<double>& errors) {
+  ErrorStatistics s;
+  s.count = errors.size();
+  if (errors.empty()) return s;
+  const double n = static_cast<double>(errors.size());
+  double sum = 0.0;
+  double sse = 0.0;
+  s.min = errors[0];
+  s.max = errors[0];
+  for (const double e : errors) {
+    sum += e;
+    sse += e * e;
+    s.min = std::min(s.min, e);
+    s.max = std::max(s.max, e);
+  }
+  s.mean = sum / n;
+  s.sse = sse;
+  s.rmse = std::sqrt(sse / n);
+  double var = 0.0;
+  for (const double e : errors) var += (e - s.mean) * (e - s.mean);
+  s.std = std::sqrt(var / n);  // Population std (numpy's default ddof = 0).
+  std::vector<double> sorted = errors;
+  const size_t mid = sorted.size() / 2;
+  std::nth_element(sorted.begin(), sorted.begin() + mid, sorted.end());
+  const double upper = sorted[mid];
+  if (sorted.size() % 2 == 1) {
+    s.median = upper;
+  } else {
+    const double lower =
+        *std::max_element(sorted.begin(), sorted.begin() + mid);
+    s.median = 0.5 * (lower + upper);
+  }
+  return s;
+}
+
+// --------------------------------------------------------------- association
+
+Association AssociateByTimestamp(const Trajectory& ref, const Trajectory& est,
+                                 const AssociationOptions& options) {
+  Association result;
+  result.by_index = false;
+  // As evo: iterate over the trajectory with fewer poses (the estimate when
+  // both have as many) and look up the nearest stamp of the other.
+  const bool est_longer = est.size() > ref.size();
+  const Trajectory& shorter = est_longer ? ref : est;
+  const Trajectory& longer = est_longer ? est : ref;
+  result.max_pairs = shorter.size();
+  const TimeNs offset = SecondsToNs(options.t_offset);
+  // Offset applied to the longer trajectory's stamps (evo: offset_2 when the
+  // estimate is longer, -offset_2 otherwise).
+  const TimeNs long_offset = est_longer ? offset : -offset;
+  const double max_diff_ns = options.t_max_diff * 1e9;
+
+  std::vector<size_t> short_ids;
+  std::vector<size_t> long_ids;
+  std::vector<TimeNs> abs_diffs;
+  for (size_t s = 0; s < shorter.size(); ++s) {
+    const TimeNs target = shorter[s].stamp - long_offset;
+    auto it = std::lower_bound(
+        longer.begin(), longer.end(), target,
+        [](const StampedPose& p, TimeNs t) { return p.stamp < t; });
+    size_t best = longer.size();
+    TimeNs best_diff = std::numeric_limits<TimeNs>::max();
+    const size_t k = static_cast<size_t>(it - longer.begin());
+    // Candidates k - 1 (first, so that it wins a tie as numpy's argmin) and k.
+    for (size_t c : {k - 1, k}) {
+      if (c >= longer.size()) continue;  // k - 1 wraps for k == 0.
+      const TimeNs d = longer[c].stamp + long_offset - shorter[s].stamp;
+      const TimeNs ad = d < 0 ? -d : d;
+      if (ad < best_diff) {
+        best_diff = ad;
+        best = c;
+      }
+    }
+    if (best < longer.size() && static_cast<double>(best_diff) <= max_diff_ns) {
+      short_ids.push_back(s);
+      long_ids.push_back(best);
+      abs_diffs.push_back(best_diff);
+    }
+  }
+  // One-to-one: long indices are non-decreasing; among runs of equal long
+  // indices keep the pair with the smallest |dt| (first on a tie).
+  std::vector<size_t> keep;
+  for (size_t i = 0; i < long_ids.size();) {
+    size_t j = i;
+    size_t best = i;
+    while (j < long_ids.size() && long_ids[j] == long_ids[i]) {
+      if (abs_diffs[j] < abs_diffs[best]) best = j;
+      ++j;
+    }
+    keep.push_back(best);
+    result.dropped_duplicates += (j - i) - 1;
+    i = j;
+  }
+  for (const size_t k : keep) {
+    const size_t ri = est_longer ? short_ids[k] : long_ids[k];
+    const size_t ei = est_longer ? long_ids[k] : short_ids[k];
+    result.ref_indices.push_back(ri);
+    result.est_indices.push_back(ei);
+    result.max_abs_dt =
+        std::max(result.max_abs_dt, NsToSeconds(abs_diffs[k]));
+  }
+  return result;
+}
+
+bool AssociateByIndex(const Trajectory& ref, const Trajectory& est,
+                      Association* association, std::string* error) {
+  if (ref.size() != est.size()) {
+    *error = "association by index needs as many poses in both trajectories "
+             "(reference " + std::to_string(ref.size()) + ", estimate " +
+             std::to_string(est.size()) +
+             "); give stamps (e.g. a KITTI times file) to associate by time";
+    return false;
+  }
+  *association = Association();
+  association->by_index = true;
+  association->max_pairs = ref.size();
+  for (size_t i = 0; i < ref.size(); ++i) {
+    association->ref_indices.push_back(i);
+    association->est_indices.push_back(i);
+  }
+  return true;
+}
+
+namespace {
+
+double MedianInterval(const Trajectory& t) {
+  if (t.size() < 2) return 0.0;
+  std::vector<double> d;
+  d.reserve(t.size() - 1);
+  for (size_t i = 1; i < t.size(); ++i) {
+    d.push_back(NsToSeconds(t[i].stamp - t[i - 1].stamp));
+  }
+  std::nth_element(d.begin(), d.begin() + d.size() / 2, d.end());
+  return d[d.size() / 2];
+}
+
+}  // namespace
+
+std::string ExplainNoTimestampMatches(const Trajectory& ref,
+                                      const Trajectory& est,
+                                      const AssociationOptions& options) {
+  if (ref.empty() || est.empty()) {
+    return ref.empty() ? "the reference has no poses"
+                       : "the estimate has no poses";
+  }
+  const TimeNs offset = SecondsToNs(options.t_offset);
+  const double r0 = NsToSeconds(ref.front().stamp);
+  const double r1 = NsToSeconds(ref.back().stamp);
+  const double e0 = NsToSeconds(est.front().stamp + offset);
+  const double e1 = NsToSeconds(est.back().stamp + offset);
+  std::string msg = "reference stamps span [" + Seconds(ref.front().stamp) +
+                    ", " + Seconds(ref.back().stamp) +
+                    "] s, estimate stamps (offset applied) span [" +
+                    Format("%.6f", e0) + ", " + Format("%.6f", e1) + "] s";
+  // Unit mismatch: magnitudes differing by about 1e3, 1e6 or 1e9.
+  const double mr = std::max(std::fabs(r0), std::fabs(r1));
+  const double me = std::max(std::fabs(e0), std::fabs(e1));
+  if (mr > 0.0 && me > 0.0) {
+    const double ratio = std::log10(std::max(mr, me) / std::min(mr, me));
+    for (const auto& unit : {std::make_pair(3.0, "milliseconds"),
+                             std::make_pair(6.0, "microseconds"),
+                             std::make_pair(9.0, "nanoseconds")}) {
+      if (std::fabs(ratio - unit.first) < 0.5) {
+        msg += std::string("; the ") + (me > mr ? "estimate" : "reference") +
+               "'s stamps are about 1e" + Format("%.0f", unit.first) +
+               " times larger: one file seems to hold " + unit.second +
+               " where seconds are expected (TUM stamps are seconds, EuRoC "
+               "stamps nanoseconds: check --format)";
+        return msg;
+      }
+    }
+  }
+  if (e1 < r0 || e0 > r1) {
+    msg += "; the time ranges do not overlap: if both start together, try "
+           "--t_offset " + Format("%.6f", r0 - NsToSeconds(est.front().stamp));
+    return msg;
+  }
+  // Overlapping but nothing close enough: report the closest difference.
+  double closest = std::numeric_limits<double>::infinity();
+  for (const auto& p : est) {
+    const TimeNs t = p.stamp + offset;
+    auto it = std::lower_bound(
+        ref.begin(), ref.end(), t,
+        [](const StampedPose& a, TimeNs b) { return a.stamp < b; });
+    if (it != ref.end()) {
+      closest = std::min(closest, std::fabs(NsToSeconds(it->stamp - t)));
+    }
+    if (it != ref.begin()) {
+      closest = std::min(closest, std::fabs(NsToSeconds(std::prev(it)->stamp - t)));
+    }
+  }
+  msg += "; the closest pair of stamps is " + Format("%.6f", closest) +
+         " s apart (> t_max_diff " + Format("%g", options.t_max_diff) +
+         " s; median sampling intervals: reference " +
+         Format("%.6f", MedianInterval(ref)) + " s, estimate " +
+         Format("%.6f", MedianInterval(est)) +
+         " s): raise --t_max_diff or set --t_offset";
+  return msg;
+}
+
+// ----------------------------------------------------------------- alignment
+
+const char* AlignmentMethodName(AlignmentMethod method) {
+  switch (method) {
+    case AlignmentMethod::kNone: return "none";
+    case AlignmentMethod::kSE3: return "se3";
+    case AlignmentMethod::kSim3: return "sim3";
+    case AlignmentMethod::kScale: return "scale";
+    case AlignmentMethod::kOrigin: return "origin";
+  }
+  return "?";
+}
+
+bool ParseAlignmentMethod(const std::string& name, AlignmentMethod* method) {
+  for (AlignmentMethod m :
+       {AlignmentMethod::kNone, AlignmentMethod::kSE3, AlignmentMethod::kSim3,
+        AlignmentMethod::kScale, AlignmentMethod::kOrigin}) {
+    if (name == AlignmentMethodName(m)) {
+      *method = m;
+      return true;
+    }
+  }
+  return false;
+}
+
+Pose3 Similarity3::Apply(const Pose3& pose) const {
+  return Pose3(Apply(pose.t), Eigen::Quaterniond(rotation) * pose.q);
+}
+
+bool UmeyamaAlignment(const std::vector<Eigen::Vector3d>& x,
+                      const std::vector<Eigen::Vector3d>& y, bool with_scale,
+                      Similarity3* result, std::string* error) {
+  if (x.size() != y.size()) {
+    *error = "alignment needs as many points in both sets";
+    return false;
+  }
+  if (x.size() < 2) {
+    *error = "alignment needs at least 3 matched positions (got " +
+             std::to_string(x.size()) + ")";
+    return false;
+  }
+  const double n = static_cast<double>(x.size());
+  Eigen::Vector3d mean_x = Eigen::Vector3d::Zero();
+  Eigen::Vector3d mean_y = Eigen::Vector3d::Zero();
+  for (size_t i = 0; i < x.size(); ++i) {
+    mean_x += x[i];
+    mean_y += y[i];
+  }
+  mean_x /= n;
+  mean_y /= n;
+  double sigma_x = 0.0;
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (size_t i = 0; i < x.size(); ++i) {
+    const Eigen::Vector3d dx = x[i] - mean_x;
+    sigma_x += dx.squaredNorm();
+    cov += (y[i] - mean_y) * dx.transpose();
+  }
+  sigma_x /= n;
+  cov /= n;
+  Eigen::JacobiSVD<Eigen::Matrix3d> svd(
+      cov, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  const Eigen::Vector3d d = svd.singularValues();
+  int rank = 0;
+  for (int i = 0; i < 3; ++i) {
+    if (d[i] > std::numeric_limits<double>::epsilon()) ++rank;
+  }
+  if (rank < 2) {
+    *error = "degenerate covariance rank (the matched positions are "
+             "collinear or identical): Umeyama alignment is not possible";
+    return false;
+  }
+  Eigen::Matrix3d s = Eigen::Matrix3d::Identity();
+  if (svd.matrixU().determinant() * svd.matrixV().determinant() < 0.0) {
+    s(2, 2) = -1.0;  // Keep a proper rotation (det +1).
+  }
+  result->rotation = svd.matrixU() * s * svd.matrixV().transpose();
+  result->scale =
+      with_scale ? (d.asDiagonal() * s).trace() / sigma_x : 1.0;
+  result->translation = mean_y - result->scale * (result->rotation * mean_x);
+  return true;
+}
+
+bool ComputeAlignment(const std::vector<Pose3>& ref,
+                      const std::vector<Pose3>& est, AlignmentMethod method,
+                      int n_to_align, Similarity3* result,
+                      std::string* error) {
+  *result = Similarity3();
+  if (ref.size() != est.size()) {
+    *error = "alignment needs matched trajectories of equal size";
+    return false;
+  }
+  if (method == AlignmentMethod::kNone) return true;
+  if (ref.empty()) {
+    *error = "cannot align empty trajectories";
+    return false;
+  }
+  if (method == AlignmentMethod::kOrigin) {
+    // T = P_ref,0 * P_est,0^-1, applied on the left.
+    const Pose3 t = ref[0] * est[0].Inverse();
+    result->rotation = t.q.toRotationMatrix();
+    result->translation = t.t;
+    result->scale = 1.0;
+    return true;
+  }
+  size_t n = est.size();
+  if (n_to_align > 0) n = std::min(n, static_cast<size_t>(n_to_align));
+  std::vector<Eigen::Vector3d> x(n);
+  std::vector<Eigen::Vector3d> y(n);
+  for (size_t i = 0; i < n; ++i) {
+    x[i] = est[i].t;
+    y[i] = ref[i].t;
+  }
+  Similarity3 umeyama;
+  const bool with_scale = method != AlignmentMethod::kSE3;
+  if (!UmeyamaAlignment(x, y, with_scale, &umeyama, error)) return false;
+  if (method == AlignmentMethod::kScale) {
+    result->scale = umeyama.scale;  // Scale only (evo -s without -a).
+  } else {
+    *result = umeyama;
+  }
+  return true;
+}
+
+std::vector<Pose3> ApplyAlignment(const Similarity3& transform,
+                                  const std::vector<Pose3>& poses) {
+  std::vector<Pose3> out;
+  out.reserve(poses.size());
+  for (const Pose3& p : poses) out.push_back(transform.Apply(p));
+  return out;
+}
+
+// -------------------------------------------------------------------- metrics
+
+double RotationAngle(const Eigen::Quaterniond& q) {
+  return 2.0 * std::atan2(q.vec().norm(), std::fabs(q.w()));
+}
+
+std::vector<double> ApeTranslationErrors(const std::vector<Pose3>& ref,
+                                         const std::vector<Pose3>& est) {
+  std::vector<double> e(std::min(ref.size(), est.size()));
+  for (size_t i = 0; i < e.size(); ++i) e[i] = (est[i].t - ref[i].t).norm();
+  return e;
+}
+
+std::vector<double> ApeRotationErrorsDeg(const std::vector<Pose3>& ref,
+                                         const std::vector<Pose3>& est) {
+  std::vector<double> e(std::min(ref.size(), est.size()));
+  for (size_t i = 0; i < e.size(); ++i) {
+    e[i] = RotationAngle(est[i].q.conjugate() * ref[i].q) * 180.0 / M_PI;
+  }
+  return e;
+}
+
+const char* DeltaUnitName(DeltaUnit unit) {
+  switch (unit) {
+    case DeltaUnit::kFrames: return "frames";
+    case DeltaUnit::kMeters: return "m";
+    case DeltaUnit::kSeconds: return "s";
+  }
+  return "?";
+}
+
+bool ParseDeltaUnit(const std::string& name, DeltaUnit* unit) {
+  if (name == "frames" || name == "f" || name == "frame") {
+    *unit = DeltaUnit::kFrames;
+  } else if (name == "m" || name == "meters" || name == "metres") {
+    *unit = DeltaUnit::kMeters;
+  } else if (name == "s" || name == "seconds") {
+    *unit = DeltaUnit::kSeconds;
+  } else {
+    return false;
+  }
+  return true;
+}
+
+namespace {
+
+// First index j in [lo, hi) with !(key(j) < value), key non-decreasing.
+template <typename Key>
+size_t LowerBoundIndex(size_t lo, size_t hi, double value, const Key& key) {
+  while (lo < hi) {
+    const size_t mid = lo + (hi - lo) / 2;
+    if (key(mid) < value) {
+      lo = mid + 1;
+    } else {
+      hi = mid;
+    }
+  }
+  return lo;
+}
+
+// For each i: the j > i whose key(j) - key(i) is closest to delta (first on a
+// tie, like numpy's argmin), kept within tol. `values` non-decreasing.
+IndexPairs ClosestDeltaPairs(const std::vector<double>& values, double delta,
+                             double tol) {
+  IndexPairs pairs;
+  const size_t n = values.size();
+  for (size_t i = 0; i + 1 < n; ++i) {
+    auto f = [&](size_t j) { return values[j] - values[i]; };
+    const size_t k = LowerBoundIndex(i + 1, n, delta, f);
+    size_t best = n;
+    double best_res = std::numeric_limits<double>::infinity();
+    if (k > i + 1) {
+      // Below delta: the first index holding the same difference as k - 1.
+      const double v = f(k - 1);
+      const size_t first = LowerBoundIndex(i + 1, k, v, f);
+      best = first;
+      best_res = std::fabs(v - delta);
+    }
+    if (k < n && std::fabs(f(k) - delta) < best_res) {
+      best = k;
+      best_res = std::fabs(f(k) - delta);
+    }
+    if (best < n && !(best_res > tol)) pairs.emplace_back(i, best);
+  }
+  return pairs;
+}
+
+}  // namespace
+
+bool SelectRpePairs(const std::vector<Pose3>& poses,
+                    const std::vector<TimeNs>& stamps,
+                    const RpeOptions& options, IndexPairs* pairs,
+                    std::string* error) {
+  pairs->clear();
+  const size_t n = poses.size();
+  if (!(options.delta > 0.0) || !std::isfinite(options.delta)) {
+    *error = "the RPE delta must be a positive number";
+    return false;
+  }
+  switch (options.unit) {
+    case DeltaUnit::kFrames: {
+      if (options.delta != std::floor(options.delta)) {
+        *error = "the RPE delta must be an integer for the unit frames";
+        return false;
+      }
+      const size_t d = static_cast<size_t>(options.delta);
+      if (options.all_pairs) {
+        for (size_t i = 0; i + d < n; ++i) pairs->emplace_back(i, i + d);
+      } else {
+        for (size_t i = 0; i + d < n; i += d) pairs->emplace_back(i, i + d);
+      }
+      break;
+    }
+    case DeltaUnit::kMeters: {
+      if (options.all_pairs) {
+        std::vector<double> dist(n, 0.0);
+        for (size_t i = 1; i < n; ++i) {
+          dist[i] = dist[i - 1] + (poses[i].t - poses[i - 1].t).norm();
+        }
+        *pairs = ClosestDeltaPairs(dist, options.delta,
+                                   options.delta * options.rel_delta_tol);
+      } else {
+        // evo's filter_pairs_by_path: the accumulator starts at pose 0 and
+        // restarts at 0 at every recorded index.
+        std::vector<size_t> ids;
+        double current = 0.0;
+        for (size_t i = 0; i < n; ++i) {
+          if (i > 0) current += (poses[i].t - poses[i - 1].t).norm();
+          if (current >= options.delta) {
+            ids.push_back(i);
+            current = 0.0;
+          }
+        }
+        for (size_t k = 0; k + 1 < ids.size(); ++k) {
+          pairs->emplace_back(ids[k], ids[k + 1]);
+        }
+      }
+      break;
+    }
+    case DeltaUnit::kSeconds: {
+      if (stamps.size() != n) {
+        *error = "the RPE unit seconds needs stamps for every pose";
+        return false;
+      }
+      if (options.all_pairs) {
+        std::vector<double> t(n);
+        for (size_t i = 0; i < n; ++i) {
+          t[i] = NsToSeconds(stamps[i] - stamps[0]);
+        }
+        *pairs = ClosestDeltaPairs(t, options.delta,
+                                   options.delta * options.rel_delta_tol);
+      } else {
+        const TimeNs d = SecondsToNs(options.delta);
+        size_t start = 0;
+        for (size_t j = 1; j < n; ++j) {
+          if (stamps[j] - stamps[start] >= d) {
+            pairs->emplace_back(start, j);
+            start = j;
+          }
+        }
+      }
+      break;
+    }
+  }
+  if (pairs->empty()) {
+    *error = "RPE delta = " + Format("%g", options.delta) + " (" +
+             DeltaUnitName(options.unit) + ") produced no pose pair among " +
+             std::to_string(n) +
+             " poses: try a lower delta or a less strict tolerance";
+    return false;
+  }
+  return true;
+}
+
+bool ComputeRpe(const std::vector<Pose3>& ref, const std::vector<Pose3>& est,
+                const std::vector<TimeNs>& ref_stamps,
+                const std::vector<TimeNs>& est_stamps,
+                const RpeOptions& options, RpeErrors* errors,
+                std::string* error) {
+  *errors = RpeErrors();
+  if (ref.size() != est.size()) {
+    *error = "RPE needs matched trajectories of equal size";
+    return false;
+  }
+  const bool from_ref = options.pairs_from_reference;
+  if (!SelectRpePairs(from_ref ? ref : est, from_ref ? ref_stamps : est_stamps,
+                      options, &errors->pairs, error)) {
+    return false;
+  }
+  errors->translation.reserve(errors->pairs.size());
+  errors->rotation_deg.reserve(errors->pairs.size());
+  for (const auto& [i, j] : errors->pairs) {
+    const Pose3 q_rel = Between(ref[i], ref[j]);
+    const Pose3 p_rel = Between(est[i], est[j]);
+    const Pose3 e = Between(q_rel, p_rel);
+    errors->translation.push_back(e.t.norm());
+    errors->rotation_deg.push_back(RotationAngle(e.q) * 180.0 / M_PI);
+  }
+  return true;
+}
+
+bool ComputeKittiMetric(const std::vector<Pose3>& ref,
+                        const std::vector<Pose3>& est, KittiMetric* metric,
+                        std::string* error) {
+  *metric = KittiMetric();
+  if (ref.size() != est.size()) {
+    *error = "the KITTI metric needs matched trajectories of equal size";
+    return false;
+  }
+  static const float kLengths[] = {100, 200, 300, 400, 500, 600, 700, 800};
+  constexpr size_t kStepSize = 10;
+  // Devkit trajectoryDistances: single precision.
+  std::vector<float> dist(ref.size(), 0.0f);
+  for (size_t i = 1; i < ref.size(); ++i) {
+    const float dx = static_cast<float>(ref[i - 1].t.x() - ref[i].t.x());
+    const float dy = static_cast<float>(ref[i - 1].t.y() - ref[i].t.y());
+    const float dz = static_cast<float>(ref[i - 1].t.z() - ref[i].t.z());
+    dist[i] = dist[i - 1] + std::sqrt(dx * dx + dy * dy + dz * dz);
+  }
+  float t_sum = 0.0f;
+  float r_sum = 0.0f;
+  std::vector<double> len_t(8, 0.0);
+  std::vector<double> len_r(8, 0.0);
+  std::vector<size_t> len_n(8, 0);
+  for (size_t first = 0; first < ref.size(); first += kStepSize) {
+    for (size_t li = 0; li < 8; ++li) {
+      const float len = kLengths[li];
+      size_t last = ref.size();
+      for (size_t i = first; i < dist.size(); ++i) {
+        if (dist[i] > dist[first] + len) {
+          last = i;
+          break;
+        }
+      }
+      if (last == ref.size()) continue;
+      const Pose3 delta_gt = Between(ref[first], ref[last]);
+      const Pose3 delta_result = Between(est[first], est[last]);
+      const Pose3 pose_error = Between(delta_result, delta_gt);
+      const Eigen::Matrix3d r = pose_error.q.toRotationMatrix();
+      // Devkit rotationError / translationError, in float as there.
+      const float a = static_cast<float>(r(0, 0));
+      const float b = static_cast<float>(r(1, 1));
+      const float c = static_cast<float>(r(2, 2));
+      const float d = static_cast<float>(0.5 * ((a + b + c) - 1.0));
+      const float r_err = std::acos(std::max(std::min(d, 1.0f), -1.0f));
+      const float tx = static_cast<float>(pose_error.t.x());
+      const float ty = static_cast<float>(pose_error.t.y());
+      const float tz = static_cast<float>(pose_error.t.z());
+      const float t_err = std::sqrt(tx * tx + ty * ty + tz * tz);
+      KittiSegmentError seg;
+      seg.first_frame = first;
+      seg.last_frame = last;
+      seg.length = len;
+      seg.t_err = t_err / len;
+      seg.r_err = r_err / len;
+      t_sum += t_err / len;
+      r_sum += r_err / len;
+      len_t[li] += seg.t_err;
+      len_r[li] += seg.r_err;
+      ++len_n[li];
+      metric->segments.push_back(seg);
+    }
+  }
+  metric->num_segments = metric->segments.size();
+  if (metric->num_segments == 0) {
+    metric->t_rel_percent = std::numeric_limits<double>::quiet_NaN();
+    metric->r_rel_deg_per_100m = std::numeric_limits<double>::quiet_NaN();
+    return true;
+  }
+  const float num = static_cast<float>(metric->num_segments);
+  metric->t_rel_percent = 100.0 * static_cast<double>(t_sum / num);
+  metric->r_rel_deg_per_100m =
+      static_cast<double>(r_sum / num) * 180.0 / M_PI * 100.0;
+  for (size_t li = 0; li < 8; ++li) {
+    if (len_n[li] == 0) continue;
+    KittiLengthSummary s;
+    s.length = kLengths[li];
+    s.count = len_n[li];
+    s.t_rel_percent = 100.0 * len_t[li] / len_n[li];
+    s.r_rel_deg_per_100m = len_r[li] / len_n[li] * 180.0 / M_PI * 100.0;
+    metric->by_length.push_back(s);
+  }
+  return true;
+}
+
+double PathLength(const std::vector<Pose3>& poses) {
+  double length = 0.0;
+  for (size_t i = 1; i < poses.size(); ++i) {
+    length += (poses[i].t - poses[i - 1].t).norm();
+  }
+  return length;
+}
+
+// ------------------------------------------------------------- whole pipeline
+
+bool EvaluateTrajectories(const Trajectory& ref, const Trajectory& est,
+                          const EvalSettings& settings, EvalResult* result,
+                          std::string* error) {
+  *result = EvalResult();
+  if (ref.empty()) {
+    *error = "the reference trajectory has no poses";
+    return false;
+  }
+  if (est.empty()) {
+    *error = "the estimated trajectory has no poses";
+    return false;
+  }
+  if (settings.association == AssociationMethod::kIndex) {
+    if (!AssociateByIndex(ref, est, &result->association, error)) return false;
+  } else {
+    result->association = AssociateByTimestamp(ref, est, settings.sync);
+    if (result->association.size() == 0) {
+      *error = "found no matching timestamps between the reference and the "
+               "estimate with max. time diff " +
+               Format("%g", settings.sync.t_max_diff) + " s and time offset " +
+               Format("%g", settings.sync.t_offset) + " s: " +
+               ExplainNoTimestampMatches(ref, est, settings.sync);
+      return false;
+    }
+  }
+  const Association& a = result->association;
+  for (size_t k = 0; k < a.size(); ++k) {
+    result->ref.push_back(ref[a.ref_indices[k]].pose);
+    result->ref_stamps.push_back(ref[a.ref_indices[k]].stamp);
+    result->est.push_back(est[a.est_indices[k]].pose);
+    result->est_stamps.push_back(est[a.est_indices[k]].stamp);
+  }
+  if (!ComputeAlignment(result->ref, result->est, settings.align,
+                        settings.n_to_align, &result->alignment, error)) {
+    *error = "alignment (" + std::string(AlignmentMethodName(settings.align)) +
+             ") of " + std::to_string(a.size()) + " matched poses: " + *error;
+    return false;
+  }
+  result->est_aligned = ApplyAlignment(result->alignment, result->est);
+  result->ref_path_length = PathLength(result->ref);
+  result->est_path_length = PathLength(result->est_aligned);
+
+  result->ape_translation =
+      ApeTranslationErrors(result->ref, result->est_aligned);
+  result->ape_rotation_deg =
+      ApeRotationErrorsDeg(result->ref, result->est_aligned);
+  result->ape_translation_stats =
+      ComputeErrorStatistics(result->ape_translation);
+  result->ape_rotation_stats = ComputeErrorStatistics(result->ape_rotation_deg);
+
+  if (!ComputeRpe(result->ref, result->est_aligned, result->ref_stamps,
+                  result->est_stamps, settings.rpe, &result->rpe, error)) {
+    return false;
+  }
+  result->rpe_translation_stats =
+      ComputeErrorStatistics(result->rpe.translation);
+  result->rpe_rotation_stats = ComputeErrorStatistics(result->rpe.rotation_deg);
+
+  if (settings.kitti) {
+    result->has_kitti = true;
+    if (!ComputeKittiMetric(result->ref, result->est_aligned, &result->kitti,
+                            error)) {
+      return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace slam

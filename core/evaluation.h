@@ -1,0 +1,293 @@
+// Trajectory evaluation: association, alignment and error metrics, defined as
+// evo (github.com/MichaelGrupp/evo) and the KITTI odometry devkit define them.
+// Pure math: no file format, no command line (datasets/trajectory_io.h reads
+// the files, apps/eval_report.h prints and plots).
+//
+// Definitions (with the evo source each one follows):
+//
+// Association by timestamp (evo core/sync.py, associate_trajectories /
+//   matching_time_indices): start from the trajectory with FEWER poses (the
+//   estimate when both have as many); for each of its stamps take the stamp
+//   of the other trajectory, shifted by the offset (the offset is added to
+//   the ESTIMATE's stamps), with the smallest |difference| (first one on a
+//   tie) and keep the pair when that difference is <= t_max_diff (default
+//   0.01 s). evo stops there; a pose of the longer trajectory may then be
+//   matched twice when t_max_diff exceeds half its sampling interval. We keep
+//   the pairs one-to-one: of pairs that share a pose, the one with the
+//   smallest |difference| stays (the earliest on a tie) and the others are
+//   counted in Association::dropped_duplicates (0 whenever evo's result is
+//   already one-to-one, which is the normal case: then both are identical).
+//   Stamps are int64 nanoseconds here (evo: float seconds), which only
+//   matters for differences within a nanosecond of t_max_diff.
+// Association by index: pose i with pose i; both must have as many poses
+//   (evo raises "trajectories must have same number of poses").
+//
+// Alignment of the estimate onto the reference (evo core/geometry.py
+//   umeyama_alignment and core/trajectory.py PosePath3D.align/align_origin):
+//   Umeyama (PAMI 1991) on the positions, x = estimate, y = reference:
+//   means, sigma_x = 1/n sum |x_i - mean_x|^2, Sigma = 1/n sum (y_i -
+//   mean_y)(x_i - mean_x)^T = U D V^T, S = diag(1, 1, det(U) det(V) < 0 ? -1
+//   : 1), R = U S V^T, c = trace(D S) / sigma_x (Sim(3); 1 for SE(3)),
+//   t = mean_y - c R mean_x. Fails when fewer than 2 singular values exceed
+//   machine epsilon (evo: "Degenerate covariance rank"). The aligned estimate
+//   is p' = c R p + t, R' = R R_p. n_to_align > 0 uses only the first n
+//   matched pairs (evo --n_to_align). kScale applies only c (evo -s without
+//   -a). kOrigin: T = P_ref,0 P_est,0^-1 applied on the left (evo
+//   --align_origin).
+//
+// APE (evo core/metrics.py, class APE), per matched pose i:
+//   translation part: |t_est,i - t_ref,i| (metres);
+//   rotation angle: angle of E_i = P_est,i^-1 P_ref,i in degrees (the angle of
+//   the rotation vector, in [0, 180]; E_i^-1 = P_ref^-1 P_est has the same).
+// RPE (evo core/metrics.py, class RPE, after the TUM RGB-D benchmark), per
+//   index pair (i, j): E = (Q_i^-1 Q_j)^-1 (P_i^-1 P_j) with Q the reference
+//   and P the (aligned) estimate; translation part |t(E)|, rotation angle of
+//   E in degrees.
+//   Pairs (evo core/filters.py), chosen on the ESTIMATE by default (evo's
+//   default; --pairs_from_reference in evo, pairs_from_reference here):
+//   frames, consecutive: (0, d), (d, 2d), ...; all pairs: (i, i + d) for all
+//     i with i + d < n.
+//   metres (path length), consecutive: walk the poses accumulating the
+//     distance between neighbours (starting at pose 0); each time the
+//     accumulator reaches delta, record the index and reset the accumulator
+//     to 0; pairs are consecutive recorded indices (so pose 0 is not a pair
+//     start: evo's filter_pairs_by_path). All pairs: for each i < n - 1, the
+//     j > i whose accumulated path from i is closest to delta (first on a
+//     tie), kept when |path - delta| <= rel_delta_tol * delta.
+//   seconds: NOT in evo (its delta units are f, m, d, r). Defined here the
+//     same way as frames: consecutive pairs start at pose 0, the next pose
+//     of a pair is the first whose stamp is >= the start's stamp + delta; all
+//     pairs: for each i the j > i with stamp difference closest to delta
+//     (first on a tie), kept when within rel_delta_tol * delta.
+//
+// Statistics (evo PE.get_statistic): rmse = sqrt(mean(e^2)), mean, median
+//   (numpy: mean of the two middle values for an even count), std
+//   (population, ddof 0), min, max, sse = sum(e^2).
+//
+// KITTI odometry metric (devkit_odometry evaluate_odometry.cpp,
+//   calcSequenceErrors + saveStats): reference path distances; for every
+//   first frame 0, 10, 20, ... (step_size 10 frames) and every length L in
+//   {100, ..., 800} m the last frame is the first whose distance exceeds
+//   dist[first] + L (the segment is skipped when there is none); error pose
+//   E = (P_f^-1 P_l)^-1 (Q_f^-1 Q_l); t_err = |t(E)| / L, r_err = acos(
+//   clamp(0.5 (trace(R(E)) - 1))) / L. The result is the mean over all
+//   segments (all lengths together, not a mean of per-length means):
+//   t_rel_percent = 100 mean(t_err), r_rel_deg_per_100m = mean(r_err) * 180
+//   / pi * 100. The devkit computes distances, the per-segment errors and
+//   their sums in single precision (float); we do the same, so that segment
+//   choice and rounding follow the devkit's.
+#ifndef SLAM_CORE_EVALUATION_H_
+#define SLAM_CORE_EVALUATION_H_
+
+#include <cstddef>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/conventions.h"
+#include "core/lie.h"
+#include "core/trajectory.h"
+
+namespace slam {
+
+// ---------------------------------------------------------------- statistics
+struct ErrorStatistics {
+  size_t count = 0;
+  double rmse = 0.0;
+  double mean = 0.0;
+  double median = 0.0;
+  double std = 0.0;
+  double min = 0.0;
+  double max = 0.0;
+  double sse = 0.0;
+};
+// All zero for an empty vector.
+ErrorStatistics ComputeErrorStatistics(const std::vector<double>& errors);
+
+// --------------------------------------------------------------- association
+struct AssociationOptions {
+  double t_max_diff = 0.01;  // Seconds.
+  double t_offset = 0.0;     // Seconds, added to the estimate's stamps.
+};
+
+struct Association {
+  bool by_index = false;
+  // Matched pairs in time order: ref[ref_indices[k]] <-> est[est_indices[k]].
+  std::vector<size_t> ref_indices;
+  std::vector<size_t> est_indices;
+  size_t max_pairs = 0;           // Poses of the shorter trajectory.
+  size_t dropped_duplicates = 0;  // Pairs removed to keep pairs one-to-one.
+  double max_abs_dt = 0.0;        // Largest |t_est + offset - t_ref| (s).
+  size_t size() const { return ref_indices.size(); }
+};
+
+// Both trajectories must have strictly increasing stamps.
+Association AssociateByTimestamp(const Trajectory& ref, const Trajectory& est,
+                                 const AssociationOptions& options);
+// False with a message when the pose counts differ.
+bool AssociateByIndex(const Trajectory& ref, const Trajectory& est,
+                      Association* association, std::string* error);
+// Why no stamp matched: time ranges, overlap, a unit mismatch (seconds vs
+// nanoseconds or microseconds) or an offset that would make them overlap.
+std::string ExplainNoTimestampMatches(const Trajectory& ref,
+                                      const Trajectory& est,
+                                      const AssociationOptions& options);
+
+// ----------------------------------------------------------------- alignment
+enum class AlignmentMethod { kNone, kSE3, kSim3, kScale, kOrigin };
+const char* AlignmentMethodName(AlignmentMethod method);  // "none", "se3", ...
+bool ParseAlignmentMethod(const std::string& name, AlignmentMethod* method);
+
+// x -> scale * rotation * x + translation.
+struct Similarity3 {
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d translation = Eigen::Vector3d::Zero();
+  double scale = 1.0;
+
+  Eigen::Vector3d Apply(const Eigen::Vector3d& p) const {
+    return scale * (rotation * p) + translation;
+  }
+  // Position scaled, rotated and moved; orientation rotated.
+  Pose3 Apply(const Pose3& pose) const;
+};
+
+// Least-squares y_i ~ c R x_i + t (Umeyama 1991, as evo). with_scale false:
+// c = 1. False with a message for mismatched sizes, fewer than 2 points or a
+// degenerate (collinear) configuration.
+bool UmeyamaAlignment(const std::vector<Eigen::Vector3d>& x,
+                      const std::vector<Eigen::Vector3d>& y, bool with_scale,
+                      Similarity3* result, std::string* error);
+
+// The transform that aligns `est` onto `ref` (matched, same size) with
+// `method`; n_to_align > 0 restricts Umeyama to the first n pairs (<= 0: all).
+bool ComputeAlignment(const std::vector<Pose3>& ref,
+                      const std::vector<Pose3>& est, AlignmentMethod method,
+                      int n_to_align, Similarity3* result, std::string* error);
+std::vector<Pose3> ApplyAlignment(const Similarity3& transform,
+                                  const std::vector<Pose3>& poses);
+
+// -------------------------------------------------------------------- metrics
+// Rotation angle of a unit quaternion, radians in [0, pi].
+double RotationAngle(const Eigen::Quaterniond& q);
+
+std::vector<double> ApeTranslationErrors(const std::vector<Pose3>& ref,
+                                         const std::vector<Pose3>& est);
+std::vector<double> ApeRotationErrorsDeg(const std::vector<Pose3>& ref,
+                                         const std::vector<Pose3>& est);
+
+enum class DeltaUnit { kFrames, kMeters, kSeconds };
+const char* DeltaUnitName(DeltaUnit unit);  // "frames", "m", "s"
+// Accepts frames|f, m|meters, s|seconds.
+bool ParseDeltaUnit(const std::string& name, DeltaUnit* unit);
+
+struct RpeOptions {
+  double delta = 1.0;
+  DeltaUnit unit = DeltaUnit::kFrames;
+  bool all_pairs = false;
+  bool pairs_from_reference = false;  // evo's default: pairs from estimate.
+  double rel_delta_tol = 0.1;         // all_pairs mode, metres and seconds.
+};
+
+using IndexPairs = std::vector<std::pair<size_t, size_t>>;
+
+// Index pairs (i, j), i < j, for `options` on one trajectory (positions for
+// metres, stamps for seconds; `stamps` may be empty otherwise). False with a
+// message for a bad delta or when no pair results.
+bool SelectRpePairs(const std::vector<Pose3>& poses,
+                    const std::vector<TimeNs>& stamps,
+                    const RpeOptions& options, IndexPairs* pairs,
+                    std::string* error);
+
+struct RpeErrors {
+  IndexPairs pairs;
+  std::vector<double> translation;   // Metres.
+  std::vector<double> rotation_deg;  // Degrees.
+};
+// ref/est matched (same size); ref_stamps/est_stamps are needed only for the
+// seconds unit (pairs come from the stamps of the trajectory they are
+// selected on).
+bool ComputeRpe(const std::vector<Pose3>& ref, const std::vector<Pose3>& est,
+                const std::vector<TimeNs>& ref_stamps,
+                const std::vector<TimeNs>& est_stamps,
+                const RpeOptions& options, RpeErrors* errors,
+                std::string* error);
+
+// Devkit segment and summary; t_err in m/m, r_err in rad/m (as the devkit).
+struct KittiSegmentError {
+  size_t first_frame = 0;
+  size_t last_frame = 0;
+  double length = 0.0;
+  double t_err = 0.0;
+  double r_err = 0.0;
+};
+struct KittiLengthSummary {
+  double length = 0.0;
+  size_t count = 0;
+  double t_rel_percent = 0.0;
+  double r_rel_deg_per_100m = 0.0;
+};
+struct KittiMetric {
+  size_t num_segments = 0;  // 0: trajectory shorter than 100 m (values NaN).
+  double t_rel_percent = 0.0;
+  double r_rel_deg_per_100m = 0.0;
+  std::vector<KittiLengthSummary> by_length;  // Lengths with segments.
+  std::vector<KittiSegmentError> segments;
+};
+// ref/est matched (same size), frame k of both at index k.
+bool ComputeKittiMetric(const std::vector<Pose3>& ref,
+                        const std::vector<Pose3>& est, KittiMetric* metric,
+                        std::string* error);
+
+// Sum of distances between consecutive positions.
+double PathLength(const std::vector<Pose3>& poses);
+
+// ------------------------------------------------------------- whole pipeline
+enum class AssociationMethod { kTimestamp, kIndex };
+
+struct EvalSettings {
+  AssociationMethod association = AssociationMethod::kTimestamp;
+  AssociationOptions sync;
+  AlignmentMethod align = AlignmentMethod::kSE3;
+  int n_to_align = -1;  // <= 0: all pairs.
+  RpeOptions rpe;
+  bool kitti = false;  // Also the KITTI devkit metric.
+};
+
+struct EvalResult {
+  Association association;
+  // The matched poses, pair k in each; stamps of both (est stamps as read,
+  // without the offset).
+  std::vector<TimeNs> ref_stamps;
+  std::vector<TimeNs> est_stamps;
+  std::vector<Pose3> ref;
+  std::vector<Pose3> est;          // As read.
+  std::vector<Pose3> est_aligned;  // After the alignment.
+  Similarity3 alignment;
+  double ref_path_length = 0.0;  // Of the matched poses.
+  double est_path_length = 0.0;  // Of the matched, aligned poses.
+
+  std::vector<double> ape_translation;   // Per pair, metres.
+  std::vector<double> ape_rotation_deg;  // Per pair, degrees.
+  ErrorStatistics ape_translation_stats;
+  ErrorStatistics ape_rotation_stats;
+
+  RpeErrors rpe;
+  ErrorStatistics rpe_translation_stats;
+  ErrorStatistics rpe_rotation_stats;
+
+  bool has_kitti = false;
+  KittiMetric kitti;
+};
+
+// Associates, aligns and computes APE, RPE (and the KITTI metric when asked).
+// False with a message (no matching stamps and why, too few pairs, a
+// degenerate alignment, no RPE pair for the delta).
+bool EvaluateTrajectories(const Trajectory& ref, const Trajectory& est,
+                          const EvalSettings& settings, EvalResult* result,
+                          std::string* error);
+
+}  // namespace slam
+
+#endif  // SLAM_CORE_EVALUATION_H_
