@@ -1,0 +1,69 @@
+// Reading and writing pose graphs in the TORO / HOG-Man text format.
+//
+// One record per line, whitespace-separated, '#' starts a comment:
+//
+//   VERTEX2 id x y theta                      (alias: VERTEX)
+//   EDGE2 i j dx dy dtheta I11 I12 I22 I33 I13 I23   (alias: EDGE)
+//   VERTEX3 id x y z roll pitch yaw
+//   EDGE3 i j x y z roll pitch yaw I11 I12 .. I16 I22 .. I66
+//   FIX id [id ...]        (an extension of this backend, see below)
+//
+// Conventions and traps:
+// - EDGE2 gives the information over (x, y, theta) -- the same error as g2o's
+//   EDGE_SE2 and our BetweenSE2Factor -- but in the order
+//   inf_ff inf_fs inf_ss inf_rr inf_fr inf_sr, i.e. I11 I12 I22 I33 I13 I23,
+//   NOT g2o's I11 I12 I13 I22 I23 I33.
+// - 3D rotations are Euler angles, R = Rz(yaw) Ry(pitch) Rx(roll) (HOG-Man's
+//   RotationMatrix3). The EDGE3 information is over HOG-Man's error
+//   e_h = (t_E, rpy(E)) of E = Z^-1 X_i^-1 X_j, while our BetweenSE3Factor
+//   uses e = (t_E, qvec(E)) of the same E (quaternion vector part, w >= 0).
+//   Linearized at the measurement (E = I), q(rpy) = qz(yaw) qy(pitch)
+//   qx(roll) = (1, roll/2, pitch/2, yaw/2) + O(|rpy|^2), so qvec = J rpy with
+//   J = d qvec / d rpy |_0 = I/2 exactly, and e = D^-1 e_h with
+//   D = diag(1, 1, 1, 2, 2, 2). Then e_h^T Omega_h e_h = e^T (D Omega_h D) e:
+//   the reader uses Omega = J^-T Omega_h J^-1 = D Omega_h D (rotation block
+//   times 4, translation-rotation blocks times 2) and the writer the inverse
+//   D^-1 Omega D^-1. Both are exact in floating point.
+// - Vertex and edge rotations are converted to unit quaternions; a 3D file
+//   written and read back reproduces rotations to about 1e-15 (Euler angles
+//   are not an exact encoding of a quaternion), everything else bit for bit.
+//   2D files round trip bit for bit.
+// - EQUIV (vertex equivalence, gtsam_w100.graph) and BR (bearing-range
+//   landmark measurements, gtsam_example.graph) lines, like any unknown tag,
+//   are skipped with one warning per tag.
+// - TORO has no fixed-node record; the writer adds "FIX id" lines (which TORO
+//   and HOG-Man ignore as unknown lines) and the reader applies them, so that
+//   fixed flags survive a round trip. TORO has no prior edges: writing a graph
+//   with prior factors fails.
+// - Everything else (ids, multi-edges, self-edges, missing vertices,
+//   positive definiteness, errors "PATH:LINE: problem") is as in
+//   datasets/g2o_io.h.
+#ifndef SLAM_DATASETS_TORO_IO_H_
+#define SLAM_DATASETS_TORO_IO_H_
+
+#include <string>
+#include <string_view>
+
+#include "core/graph.h"
+#include "datasets/g2o_io.h"
+
+namespace slam {
+
+// Reads a TORO/HOG-Man file into *graph (must be empty). On error returns
+// false, sets *error to "PATH:LINE: problem" and leaves *graph empty.
+bool ReadToro(const std::string& path, const GraphReadOptions& options,
+              Graph* graph, GraphReadReport* report, std::string* error);
+
+// As ReadToro, from text already in memory; `name` is used in messages.
+bool ReadToroFromText(const std::string& name, std::string_view text,
+                      const GraphReadOptions& options, Graph* graph,
+                      GraphReadReport* report, std::string* error);
+
+// Writes the SE2/SE3 pose nodes and between factors (VERTEX2/EDGE2 or
+// VERTEX3/EDGE3) and FIX lines. Atomic like WriteG2o; numbers with %.17g.
+bool WriteToro(const std::string& path, const Graph& graph,
+               std::string* error);
+
+}  // namespace slam
+
+#endif  // SLAM_DATASETS_TORO_IO_H_
