@@ -13,6 +13,7 @@ namespace slam {
 int RunOptimizeCommand(const std::vector<std::string>& args);
 int RunInfoCommand(const std::vector<std::string>& args);
 int RunSimulateCommand(const std::vector<std::string>& args);
+int RunEvalCommand(const std::vector<std::string>& args);
 
 }  // namespace slam
 

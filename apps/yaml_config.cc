@@ -27,6 +27,11 @@ bool CheckKnownKeys(const YAML::Node& node,
   return true;
 }
 
+bool CheckTopLevelSections(const YAML::Node& root, const std::string& where,
+                           std::string* error) {
+  return CheckKnownKeys(root, {"optimize", "simulate", "eval"}, where, error);
+}
+
 bool LoadYamlFile(const std::string& path, YAML::Node* root,
                   std::string* error) {
   if (!std::filesystem::exists(path)) {

@@ -34,6 +34,12 @@ bool ReadOptional(const YAML::Node& node, const char* key,
   return true;
 }
 
+// One config file may hold the sections of several subcommands; each loader
+// reads its own and accepts the others, but an unknown top-level key (a typo
+// such as "optimise:") is an error naming the file and line.
+bool CheckTopLevelSections(const YAML::Node& root, const std::string& where,
+                           std::string* error);
+
 // Loads a YAML file; false with "FILE:LINE: message" on a syntax error.
 bool LoadYamlFile(const std::string& path, YAML::Node* root,
                   std::string* error);

@@ -1,0 +1,526 @@
+#include "apps/eval_report.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <sstream>
+
+#include "apps/plot.h"
+#include "apps/yaml_config.h"
+
+namespace slam {
+namespace {
+
+std::string Fmt(const char* fmt, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof(buf), fmt, v);
+  return buf;
+}
+
+std::string AlignmentDescription(const EvalSettings& s, size_t pairs) {
+  const size_t used =
+      s.n_to_align > 0 ? std::min(pairs, static_cast<size_t>(s.n_to_align))
+                       : pairs;
+  const std::string on = s.n_to_align > 0
+                             ? " on the first " + std::to_string(used) +
+                                   " of " + std::to_string(pairs) + " pairs"
+                             : " on all " + std::to_string(pairs) + " pairs";
+  switch (s.align) {
+    case AlignmentMethod::kNone: return "none (estimate used as is)";
+    case AlignmentMethod::kSE3: return "SE(3) Umeyama" + on;
+    case AlignmentMethod::kSim3: return "Sim(3) Umeyama" + on;
+    case AlignmentMethod::kScale: return "scale only (Umeyama)" + on;
+    case AlignmentMethod::kOrigin:
+      return "origin (first estimate pose onto the first reference pose)";
+  }
+  return "?";
+}
+
+std::string RpeDescription(const RpeOptions& r) {
+  std::string s = "delta " + Fmt("%g", r.delta) + " " +
+                  DeltaUnitName(r.unit) + ", " +
+                  (r.all_pairs ? "all pairs" : "consecutive pairs") +
+                  ", pairs chosen on the " +
+                  (r.pairs_from_reference ? "reference" : "estimate (evo's default)");
+  if (r.all_pairs && r.unit != DeltaUnit::kFrames) {
+    s += ", tolerance " + Fmt("%g", r.rel_delta_tol * 100.0) + " %";
+  }
+  return s;
+}
+
+void PrintStatsRow(std::ostream& out, const char* name,
+                   const ErrorStatistics& s) {
+  char buf[256];
+  std::snprintf(buf, sizeof(buf),
+                "%-21s %11.6f %11.6f %11.6f %11.6f %11.6f %11.6f %14.6f %7zu\n",
+                name, s.rmse, s.mean, s.median, s.std, s.min, s.max, s.sse,
+                s.count);
+  out << buf;
+}
+
+// x values of the plots: seconds from the first matched estimate stamp, or
+// the pair index when associated by index.
+std::vector<double> TimeAxis(const EvalResult& r) {
+  std::vector<double> t(r.est_stamps.size());
+  for (size_t i = 0; i < t.size(); ++i) {
+    t[i] = r.association.by_index
+               ? static_cast<double>(i)
+               : NsToSeconds(r.est_stamps[i] - r.est_stamps[0]);
+  }
+  return t;
+}
+
+std::string TimeLabel(const EvalResult& r) {
+  return r.association.by_index ? "pose index"
+                                : "time from the first matched pose [s]";
+}
+
+void AddStatLines(const ErrorStatistics& s, const char* unit,
+                  plot::Axes* axes) {
+  axes->hlines.push_back(
+      {s.rmse, plot::kRed, true, "rmse " + Fmt("%.4g", s.rmse) + " " + unit});
+  axes->hlines.push_back({s.median, plot::kOrange, true,
+                          "median " + Fmt("%.4g", s.median) + " " + unit});
+  axes->hlines.push_back(
+      {s.mean, plot::kGreen, true, "mean " + Fmt("%.4g", s.mean) + " " + unit});
+}
+
+}  // namespace
+
+AssociationMethod ChooseAssociation(bool ref_has_stamps, bool est_has_stamps) {
+  return ref_has_stamps && est_has_stamps ? AssociationMethod::kTimestamp
+                                          : AssociationMethod::kIndex;
+}
+
+void PrintAssociationAndAlignment(const EvalResult& r, const EvalSettings& s,
+                                  std::ostream& out) {
+  const Association& a = r.association;
+  if (a.by_index) {
+    out << "association: by index, " << a.size() << " pairs\n";
+  } else {
+    out << "association: by timestamp (t_max_diff " << Fmt("%g", s.sync.t_max_diff)
+        << " s, t_offset " << Fmt("%g", s.sync.t_offset) << " s): " << a.size()
+        << " of max. " << a.max_pairs << " possible pairs, largest |dt| "
+        << Fmt("%.6f", a.max_abs_dt) << " s\n";
+    if (a.dropped_duplicates > 0) {
+      out << "  note: " << a.dropped_duplicates
+          << " pair(s) dropped to keep the association one-to-one (evo would "
+             "match those poses twice; t_max_diff exceeds half the sampling "
+             "interval)\n";
+    }
+  }
+  out << "alignment: " << AlignmentDescription(s, a.size()) << "\n";
+  if (s.align != AlignmentMethod::kNone) {
+    const Similarity3& t = r.alignment;
+    char buf[160];
+    for (int i = 0; i < 3; ++i) {
+      std::snprintf(buf, sizeof(buf), "  %s [%11.8f %11.8f %11.8f]   %s%12.6f\n",
+                    i == 0 ? "rotation" : "        ", t.rotation(i, 0),
+                    t.rotation(i, 1), t.rotation(i, 2),
+                    i == 0 ? "translation " : "            ",
+                    t.translation[i]);
+      out << buf;
+    }
+    std::snprintf(buf, sizeof(buf), "  scale %.9f\n", t.scale);
+    out << buf;
+  }
+}
+
+void PrintEvalTable(const EvalResult& r, const EvalSettings& s,
+                    std::ostream& out) {
+  char buf[256];
+  std::snprintf(buf, sizeof(buf), "%-21s %11s %11s %11s %11s %11s %11s %14s %7s\n",
+                "", "rmse", "mean", "median", "std", "min", "max", "sse",
+                "count");
+  out << buf;
+  PrintStatsRow(out, "APE translation [m]", r.ape_translation_stats);
+  PrintStatsRow(out, "APE rotation [deg]", r.ape_rotation_stats);
+  PrintStatsRow(out, "RPE translation [m]", r.rpe_translation_stats);
+  PrintStatsRow(out, "RPE rotation [deg]", r.rpe_rotation_stats);
+  out << "RPE: " << RpeDescription(s.rpe) << "\n";
+  std::snprintf(buf, sizeof(buf),
+                "path length: reference %.3f m, estimate (aligned) %.3f m\n",
+                r.ref_path_length, r.est_path_length);
+  out << buf;
+  if (r.has_kitti) {
+    const KittiMetric& k = r.kitti;
+    if (k.num_segments == 0) {
+      out << "KITTI metric: no segment of 100 m or more along the reference "
+             "(path "
+          << Fmt("%.1f", r.ref_path_length) << " m): not defined\n";
+    } else {
+      std::snprintf(buf, sizeof(buf),
+                    "KITTI metric (devkit, %zu segments of 100..800 m, every "
+                    "10 frames): t_rel %.4f %%, r_rel %.4f deg/100m\n",
+                    k.num_segments, k.t_rel_percent, k.r_rel_deg_per_100m);
+      out << buf;
+      for (const auto& l : k.by_length) {
+        std::snprintf(buf, sizeof(buf),
+                      "  %4.0f m: %5zu segments  t_rel %8.4f %%  r_rel %8.4f "
+                      "deg/100m\n",
+                      l.length, l.count, l.t_rel_percent,
+                      l.r_rel_deg_per_100m);
+        out << buf;
+      }
+    }
+  }
+}
+
+JsonObject StatisticsJson(const ErrorStatistics& s, const char* unit) {
+  JsonObject o;
+  o.Add("rmse", s.rmse)
+      .Add("mean", s.mean)
+      .Add("median", s.median)
+      .Add("std", s.std)
+      .Add("min", s.min)
+      .Add("max", s.max)
+      .Add("sse", s.sse)
+      .Add("count", s.count)
+      .Add("unit", unit);
+  return o;
+}
+
+JsonObject EvalSettingsJson(const EvalSettings& s) {
+  JsonObject o;
+  o.Add("association", s.association == AssociationMethod::kIndex
+                           ? "index"
+                           : "timestamp")
+      .Add("t_max_diff", s.sync.t_max_diff)
+      .Add("t_offset", s.sync.t_offset)
+      .Add("align", AlignmentMethodName(s.align))
+      .Add("n_to_align", s.n_to_align)
+      .Add("rpe_delta", s.rpe.delta)
+      .Add("rpe_unit", DeltaUnitName(s.rpe.unit))
+      .Add("rpe_all_pairs", s.rpe.all_pairs)
+      .Add("rpe_pairs_from", s.rpe.pairs_from_reference ? "reference"
+                                                        : "estimate")
+      .Add("rpe_delta_tol", s.rpe.rel_delta_tol)
+      .Add("kitti", s.kitti);
+  return o;
+}
+
+JsonObject EvalResultJson(const EvalResult& r, const EvalSettings& s) {
+  JsonObject o;
+  AddEvalResultJson(r, s, &o);
+  return o;
+}
+
+void AddEvalResultJson(const EvalResult& r, const EvalSettings& s,
+                       JsonObject* out) {
+  JsonObject& o = *out;
+  o.Add("matched_pairs", r.association.size());
+  JsonObject assoc;
+  assoc.Add("method", r.association.by_index ? "index" : "timestamp")
+      .Add("max_pairs", r.association.max_pairs)
+      .Add("dropped_duplicates", r.association.dropped_duplicates)
+      .Add("max_abs_dt", r.association.max_abs_dt);
+  o.Add("association", assoc);
+  JsonObject align;
+  std::vector<double> rot;
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) rot.push_back(r.alignment.rotation(i, j));
+  }
+  align.Add("method", AlignmentMethodName(s.align))
+      .Add("n_to_align", s.n_to_align)
+      .Add("rotation_row_major", rot)
+      .Add("translation",
+           std::vector<double>{r.alignment.translation.x(),
+                               r.alignment.translation.y(),
+                               r.alignment.translation.z()})
+      .Add("scale", r.alignment.scale);
+  o.Add("alignment", align);
+  o.Add("ape_translation", StatisticsJson(r.ape_translation_stats, "m"));
+  o.Add("ape_rotation", StatisticsJson(r.ape_rotation_stats, "deg"));
+  JsonObject rpe_t = StatisticsJson(r.rpe_translation_stats, "m");
+  JsonObject rpe_r = StatisticsJson(r.rpe_rotation_stats, "deg");
+  for (JsonObject* o2 : {&rpe_t, &rpe_r}) {
+    o2->Add("delta", s.rpe.delta)
+        .Add("delta_unit", DeltaUnitName(s.rpe.unit))
+        .Add("all_pairs", s.rpe.all_pairs)
+        .Add("pairs_from", s.rpe.pairs_from_reference ? "reference"
+                                                      : "estimate");
+  }
+  o.Add("rpe_translation", rpe_t);
+  o.Add("rpe_rotation", rpe_r);
+  JsonObject path;
+  path.Add("reference", r.ref_path_length).Add("estimate", r.est_path_length);
+  o.Add("path_length", path);
+  if (r.has_kitti) {
+    JsonObject k;
+    k.Add("t_rel_percent", r.kitti.t_rel_percent)
+        .Add("r_rel_deg_per_100m", r.kitti.r_rel_deg_per_100m)
+        .Add("segments", r.kitti.num_segments);
+    std::string lengths = "[";
+    for (size_t i = 0; i < r.kitti.by_length.size(); ++i) {
+      const auto& l = r.kitti.by_length[i];
+      JsonObject e;
+      e.Add("length", l.length)
+          .Add("segments", l.count)
+          .Add("t_rel_percent", l.t_rel_percent)
+          .Add("r_rel_deg_per_100m", l.r_rel_deg_per_100m);
+      lengths += (i ? ", " : "") + e.ToString(6);
+    }
+    k.AddRaw("by_length", lengths + "]");
+    if (r.kitti.num_segments == 0) {
+      k.Add("note", "no segment of 100 m or more: metric not defined");
+    }
+    o.Add("kitti", k);
+  }
+}
+
+bool WriteEvalPlots(const std::string& dir, const EvalResult& r,
+                    const EvalSettings& s, const EvalLabels& labels,
+                    std::vector<std::string>* written, std::string* error) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) {
+    *error = dir + ": cannot create the plot directory (" + ec.message() + ")";
+    return false;
+  }
+  // Seen from above: drop the axis along which the reference moves least.
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300);
+  Eigen::Vector3d hi = Eigen::Vector3d::Constant(-1e300);
+  for (const Pose3& p : r.ref) {
+    lo = lo.cwiseMin(p.t);
+    hi = hi.cwiseMax(p.t);
+  }
+  const Eigen::Vector3d extent = hi - lo;
+  int drop = 2;
+  if (extent.x() < extent[drop]) drop = 0;
+  if (extent.y() < extent[drop]) drop = 1;
+  if (extent.z() <= extent[drop]) drop = 2;
+  const int ax = drop == 0 ? 1 : 0;
+  const int ay = drop == 2 ? 1 : 2;
+  const char* names = "xyz";
+  const std::string plane = std::string(1, names[ax]) + "-" + names[ay];
+  auto xs = [&](const std::vector<Pose3>& v) {
+    std::vector<double> out;
+    for (const Pose3& p : v) out.push_back(p.t[ax]);
+    return out;
+  };
+  auto ys = [&](const std::vector<Pose3>& v) {
+    std::vector<double> out;
+    for (const Pose3& p : v) out.push_back(p.t[ay]);
+    return out;
+  };
+  const std::string xl = std::string(1, names[ax]) + " [m]";
+  const std::string yl = std::string(1, names[ay]) + " [m]";
+  const char* const align_names[] = {
+      "not aligned", "aligned with SE(3) Umeyama", "aligned with Sim(3) Umeyama",
+      "scale-corrected", "aligned at the first pose"};
+  const std::string align_name = align_names[static_cast<int>(s.align)];
+
+  auto save = [&](const std::string& name, const cv::Mat& img) {
+    const std::string path = dir + "/" + name;
+    if (!plot::SavePng(path, img, error)) return false;
+    written->push_back(path);
+    return true;
+  };
+
+  {  // Trajectories from above.
+    plot::Axes a;
+    a.title = "Trajectories seen from above (" + plane + " plane), estimate " +
+              align_name;
+    a.xlabel = xl;
+    a.ylabel = yl;
+    a.equal_aspect = true;
+    a.lines.push_back({xs(r.ref), ys(r.ref), plot::kGray, 2, true,
+                       labels.ref_name + " (reference)"});
+    a.lines.push_back({xs(r.est_aligned), ys(r.est_aligned), plot::kBlue, 2,
+                       false, labels.est_name + " (estimate)"});
+    if (!r.ref.empty()) {
+      a.markers.push_back({r.ref.front().t[ax], r.ref.front().t[ay],
+                           plot::kGreen, false, "start"});
+      a.markers.push_back({r.ref.back().t[ax], r.ref.back().t[ay], plot::kRed,
+                           true, "end"});
+    }
+    if (!save("trajectories.png", plot::RenderFigure({a}, 1400, 1050))) {
+      return false;
+    }
+  }
+  {  // APE along the path.
+    plot::Axes a;
+    const ErrorStatistics& st = r.ape_translation_stats;
+    a.title = "APE translation along the estimate (rmse " +
+              Fmt("%.4g", st.rmse) + " m, max " + Fmt("%.4g", st.max) +
+              " m), " + plane + " plane";
+    a.xlabel = xl;
+    a.ylabel = yl;
+    a.equal_aspect = true;
+    a.lines.push_back({xs(r.ref), ys(r.ref), plot::kGray, 1, true,
+                       labels.ref_name + " (reference)"});
+    plot::ColoredPath path;
+    path.x = xs(r.est_aligned);
+    path.y = ys(r.est_aligned);
+    path.value = r.ape_translation;
+    path.vmin = st.min;
+    path.vmax = st.max;
+    path.colorbar_label = "APE translation [m]";
+    path.label = labels.est_name + " coloured by APE";
+    a.paths.push_back(path);
+    if (!save("ape_map.png", plot::RenderFigure({a}, 1400, 1050))) {
+      return false;
+    }
+  }
+  const std::vector<double> t = TimeAxis(r);
+  {  // APE over time.
+    plot::Axes at, ar;
+    at.title = "APE translation over time (" + align_name + ")";
+    at.xlabel = TimeLabel(r);
+    at.ylabel = "APE translation [m]";
+    at.lines.push_back({t, r.ape_translation, plot::kBlue, 2, false,
+                        "APE translation"});
+    AddStatLines(r.ape_translation_stats, "m", &at);
+    ar.title = "APE rotation over time (angle of P_est^-1 P_ref)";
+    ar.xlabel = TimeLabel(r);
+    ar.ylabel = "APE rotation [deg]";
+    ar.lines.push_back({t, r.ape_rotation_deg, plot::kPurple, 2, false,
+                        "APE rotation"});
+    AddStatLines(r.ape_rotation_stats, "deg", &ar);
+    if (!save("ape.png", plot::RenderFigure({at, ar}, 1400, 620))) {
+      return false;
+    }
+  }
+  {  // RPE over time, at the second pose of each pair.
+    std::vector<double> tj;
+    for (const auto& pr : r.rpe.pairs) tj.push_back(t[pr.second]);
+    plot::Axes at, ar;
+    at.title = "RPE translation (" + RpeDescription(s.rpe) + ")";
+    at.xlabel = TimeLabel(r);
+    at.ylabel = "RPE translation [m]";
+    at.lines.push_back(
+        {tj, r.rpe.translation, plot::kBlue, 2, false, "RPE translation"});
+    AddStatLines(r.rpe_translation_stats, "m", &at);
+    ar.title = "RPE rotation (" + std::to_string(r.rpe.pairs.size()) +
+               " pairs, plotted at the end of each pair)";
+    ar.xlabel = TimeLabel(r);
+    ar.ylabel = "RPE rotation [deg]";
+    ar.lines.push_back(
+        {tj, r.rpe.rotation_deg, plot::kPurple, 2, false, "RPE rotation"});
+    AddStatLines(r.rpe_rotation_stats, "deg", &ar);
+    if (!save("rpe.png", plot::RenderFigure({at, ar}, 1400, 620))) {
+      return false;
+    }
+  }
+  return true;
+}
+
+bool EvaluateAndReport(const Trajectory& ref, const Trajectory& est,
+                       const EvalSettings& settings, const EvalLabels& labels,
+                       const std::string& plot_dir, std::ostream& out,
+                       EvalResult* result, std::string* error) {
+  if (!EvaluateTrajectories(ref, est, settings, result, error)) return false;
+  PrintAssociationAndAlignment(*result, settings, out);
+  PrintEvalTable(*result, settings, out);
+  if (!plot_dir.empty()) {
+    std::vector<std::string> written;
+    if (!WriteEvalPlots(plot_dir, *result, settings, labels, &written,
+                        error)) {
+      return false;
+    }
+    out << "plots:";
+    for (const auto& w : written) out << " " << w;
+    out << "\n";
+  }
+  return true;
+}
+
+bool EvaluateAndReport(const Trajectory& ref, const Trajectory& est,
+                       const EvalSettings& settings,
+                       const std::string& plot_dir, std::ostream& out,
+                       EvalResult* result, std::string* error) {
+  return EvaluateAndReport(ref, est, settings, EvalLabels(), plot_dir, out,
+                           result, error);
+}
+
+bool ReadEvalSettingsYaml(const YAML::Node& node, const std::string& where,
+                          EvalSettings* s, bool* associate_auto,
+                          std::string* error) {
+  if (!node) return true;
+  if (!CheckKnownKeys(node,
+                      {"associate", "t_max_diff", "t_offset", "align",
+                       "n_to_align", "rpe_delta", "rpe_unit", "rpe_all_pairs",
+                       "rpe_pairs_from_reference", "rpe_delta_tol", "kitti"},
+                      where, error)) {
+    return false;
+  }
+  std::string associate = *associate_auto ? "auto"
+                          : s->association == AssociationMethod::kIndex
+                              ? "index"
+                              : "time";
+  std::string align = AlignmentMethodName(s->align);
+  std::string unit = DeltaUnitName(s->rpe.unit);
+  if (!ReadOptional(node, "associate", where, &associate, error) ||
+      !ReadOptional(node, "t_max_diff", where, &s->sync.t_max_diff, error) ||
+      !ReadOptional(node, "t_offset", where, &s->sync.t_offset, error) ||
+      !ReadOptional(node, "align", where, &align, error) ||
+      !ReadOptional(node, "n_to_align", where, &s->n_to_align, error) ||
+      !ReadOptional(node, "rpe_delta", where, &s->rpe.delta, error) ||
+      !ReadOptional(node, "rpe_unit", where, &unit, error) ||
+      !ReadOptional(node, "rpe_all_pairs", where, &s->rpe.all_pairs, error) ||
+      !ReadOptional(node, "rpe_pairs_from_reference", where,
+                    &s->rpe.pairs_from_reference, error) ||
+      !ReadOptional(node, "rpe_delta_tol", where, &s->rpe.rel_delta_tol,
+                    error) ||
+      !ReadOptional(node, "kitti", where, &s->kitti, error)) {
+    return false;
+  }
+  if (associate == "auto") {
+    *associate_auto = true;
+  } else if (associate == "time" || associate == "timestamp") {
+    *associate_auto = false;
+    s->association = AssociationMethod::kTimestamp;
+  } else if (associate == "index") {
+    *associate_auto = false;
+    s->association = AssociationMethod::kIndex;
+  } else {
+    *error = where + ": associate must be auto, time or index, not '" +
+             associate + "'";
+    return false;
+  }
+  if (!ParseAlignmentMethod(align, &s->align)) {
+    *error = where + ": align must be none, se3, sim3, scale or origin, not '" +
+             align + "'";
+    return false;
+  }
+  if (!ParseDeltaUnit(unit, &s->rpe.unit)) {
+    *error = where + ": rpe_unit must be frames, m or s, not '" + unit + "'";
+    return false;
+  }
+  return true;
+}
+
+std::string EvalSettingsYaml(const EvalSettings& s, bool associate_auto,
+                             int indent) {
+  const std::string pad(indent, ' ');
+  std::ostringstream o;
+  o << pad << "associate: "
+    << (associate_auto ? "auto"
+        : s.association == AssociationMethod::kIndex ? "index"
+                                                     : "time")
+    << "            # auto | time | index (auto: index when a file has no "
+       "stamps)\n";
+  o << pad << "t_max_diff: " << Fmt("%.17g", s.sync.t_max_diff)
+    << "          # s, nearest-stamp association\n";
+  o << pad << "t_offset: " << Fmt("%.17g", s.sync.t_offset)
+    << "               # s, added to the estimate's stamps\n";
+  o << pad << "align: " << AlignmentMethodName(s.align)
+    << "                # none | se3 | sim3 | scale | origin\n";
+  o << pad << "n_to_align: " << s.n_to_align
+    << "            # first N pairs for se3/sim3/scale (-1: all)\n";
+  o << pad << "rpe_delta: " << Fmt("%.17g", s.rpe.delta) << "\n";
+  o << pad << "rpe_unit: " << DeltaUnitName(s.rpe.unit)
+    << "          # frames | m (path length) | s\n";
+  o << pad << "rpe_all_pairs: " << (s.rpe.all_pairs ? "true" : "false") << "\n";
+  o << pad << "rpe_pairs_from_reference: "
+    << (s.rpe.pairs_from_reference ? "true" : "false")
+    << "   # false: pairs chosen on the estimate (evo's default)\n";
+  o << pad << "rpe_delta_tol: " << Fmt("%.17g", s.rpe.rel_delta_tol)
+    << "         # relative, all-pairs mode (m, s)\n";
+  o << pad << "kitti: " << (s.kitti ? "true" : "false")
+    << "              # KITTI devkit metric\n";
+  return o.str();
+}
+
+}  // namespace slam

@@ -1,0 +1,93 @@
+// Evaluating an estimate against a ground truth and reporting it: the table
+// printed on stdout, the JSON objects of the report, the plots, and the
+// `eval:` YAML section. `slam eval` uses it, and so does every command that
+// evaluates its own result in the same run (`slam optimize --gt FILE`):
+//
+//   TrajectoryData gt;  // datasets/trajectory_io.h
+//   ReadTrajectory(FLAGS_gt, {}, &gt, &error);
+//   Trajectory est;
+//   TrajectoryFromGraph(graph, false, &est, &error);  // stamps = node ids
+//   EvalSettings settings;  // core/evaluation.h (+ ReadEvalSettingsYaml)
+//   settings.association = ChooseAssociation(gt.has_stamps, true);
+//   EvalResult result;
+//   if (!EvaluateAndReport(gt.poses, est, settings, FLAGS_plot, std::cout,
+//                          &result, &error)) { ... }
+//   report.Add("evaluation", EvalResultJson(result, settings));
+#ifndef SLAM_APPS_EVAL_REPORT_H_
+#define SLAM_APPS_EVAL_REPORT_H_
+
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include <yaml-cpp/yaml.h>
+
+#include "apps/json.h"
+#include "core/evaluation.h"
+#include "core/trajectory.h"
+
+namespace slam {
+
+// Names used in the printed table and the plots.
+struct EvalLabels {
+  std::string ref_name = "reference";
+  std::string est_name = "estimate";
+};
+
+// Evaluates (core EvaluateTrajectories), prints the association, the applied
+// alignment and the table of results to `out`, and writes the plots into
+// plot_dir when it is not empty (created if needed). False with a message.
+bool EvaluateAndReport(const Trajectory& ref, const Trajectory& est,
+                       const EvalSettings& settings,
+                       const std::string& plot_dir, std::ostream& out,
+                       EvalResult* result, std::string* error);
+bool EvaluateAndReport(const Trajectory& ref, const Trajectory& est,
+                       const EvalSettings& settings, const EvalLabels& labels,
+                       const std::string& plot_dir, std::ostream& out,
+                       EvalResult* result, std::string* error);
+
+// Index association when either side has no stamps (KITTI without times).
+AssociationMethod ChooseAssociation(bool ref_has_stamps, bool est_has_stamps);
+
+// Human-readable parts.
+void PrintAssociationAndAlignment(const EvalResult& result,
+                                  const EvalSettings& settings,
+                                  std::ostream& out);
+void PrintEvalTable(const EvalResult& result, const EvalSettings& settings,
+                    std::ostream& out);
+
+// JSON: the settings, and the results ("matched_pairs", "association",
+// "alignment", "ape_translation", "ape_rotation", "rpe_translation",
+// "rpe_rotation", "path_length", and "kitti" when computed). Each statistics
+// object holds rmse, mean, median, std, min, max, sse, count and unit.
+JsonObject EvalSettingsJson(const EvalSettings& settings);
+JsonObject EvalResultJson(const EvalResult& result,
+                          const EvalSettings& settings);
+// The same entries added to an existing object (e.g. a command's report).
+void AddEvalResultJson(const EvalResult& result, const EvalSettings& settings,
+                       JsonObject* out);
+JsonObject StatisticsJson(const ErrorStatistics& stats, const char* unit);
+
+// Plots written into `dir` (PNG): trajectories.png (reference and aligned
+// estimate seen from above), ape_map.png (estimate coloured by the APE with
+// a colour bar), ape.png (APE over time, translation and rotation), rpe.png
+// (RPE over time). The names written are appended to *written.
+bool WriteEvalPlots(const std::string& dir, const EvalResult& result,
+                    const EvalSettings& settings, const EvalLabels& labels,
+                    std::vector<std::string>* written, std::string* error);
+
+// The `eval:` section of a YAML config. Keys: associate (auto|time|index),
+// t_max_diff, t_offset, align (none|se3|sim3|scale|origin), n_to_align,
+// rpe_delta, rpe_unit (frames|m|s), rpe_all_pairs, rpe_pairs_from_reference,
+// rpe_delta_tol, kitti. Unknown keys are errors. *associate_auto is set when
+// associate is auto (the caller decides from the stamps).
+bool ReadEvalSettingsYaml(const YAML::Node& node, const std::string& where,
+                          EvalSettings* settings, bool* associate_auto,
+                          std::string* error);
+// The same keys as YAML text (each line indented by `indent` spaces).
+std::string EvalSettingsYaml(const EvalSettings& settings, bool associate_auto,
+                             int indent);
+
+}  // namespace slam
+
+#endif  // SLAM_APPS_EVAL_REPORT_H_

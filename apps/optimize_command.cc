@@ -1,0 +1,312 @@
+// slam optimize: read a pose graph, initialize, optimize, write the result.
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+#include <sstream>
+
+#include <gflags/gflags.h>
+
+#include "apps/commands.h"
+#include "apps/common_flags.h"
+#include "apps/json.h"
+#include "apps/optimize_config.h"
+#include "core/initialization.h"
+#include "core/marginals.h"
+#include "datasets/atomic_file.h"
+#include "datasets/g2o_io.h"
+
+DEFINE_string(i, "", "input graph file (g2o or TORO .graph)");
+DEFINE_string(o, "", "output file (optimize: graph, .g2o or .graph)");
+DEFINE_string(init, "auto",
+              "initial guess: auto, none, odometry, spanning_tree, chordal");
+DEFINE_string(solver, "lm", "lm, gn or dogleg");
+DEFINE_string(robust, "none",
+              "robust kernel on all between factors: none, huber:W, cauchy:W, "
+              "geman_mcclure:W, dcs:PHI");
+DEFINE_int32(max_iterations, 100, "iteration limit");
+DEFINE_string(marginals, "",
+              "comma-separated node ids whose marginal covariance to print");
+DEFINE_bool(repair_information, false,
+            "replace information matrices that are not positive definite by "
+            "the nearest positive-definite matrix (counted) instead of failing");
+DEFINE_string(ordering, "auto",
+              "elimination ordering: auto, amd, metis, nesdis, ceres");
+DEFINE_bool(quiet, false, "no per-iteration lines");
+DEFINE_bool(ceres_report, false,
+            "print Ceres' full solver report (where the time goes)");
+
+namespace slam {
+namespace {
+
+bool FlagGiven(const char* name) {
+  return !gflags::GetCommandLineFlagInfoOrDie(name).is_default;
+}
+
+// defaults < --config < explicit flags.
+bool BuildConfig(OptimizeConfig* config, std::string* error) {
+  if (!FLAGS_config.empty() &&
+      !LoadOptimizeConfig(FLAGS_config, config, error)) {
+    return false;
+  }
+  if (FlagGiven("init")) config->init = FLAGS_init;
+  if (FlagGiven("solver") &&
+      !ParseSolverKind(FLAGS_solver, &config->optimizer.solver)) {
+    *error = "--solver '" + FLAGS_solver + "' is not one of lm, gn, dogleg";
+    return false;
+  }
+  if (FlagGiven("robust")) {
+    RobustKernelSpec spec;
+    if (!ParseRobustKernel(FLAGS_robust, &spec, error)) {
+      *error = "--robust: " + *error;
+      return false;
+    }
+    config->robust_odometry = spec;
+    config->robust_loop_closure = spec;
+  }
+  if (FlagGiven("max_iterations")) {
+    config->optimizer.max_iterations = FLAGS_max_iterations;
+  }
+  if (FlagGiven("repair_information")) {
+    config->repair_information = FLAGS_repair_information;
+  }
+  if (FlagGiven("ordering")) config->optimizer.ordering = FLAGS_ordering;
+  if (FLAGS_quiet) config->optimizer.verbose = false;
+  return ValidateOptimizeConfig(*config, error);
+}
+
+bool ParseIds(const std::string& text, std::vector<int64_t>* ids,
+              std::string* error) {
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    char* end = nullptr;
+    const long long id = std::strtoll(item.c_str(), &end, 10);
+    if (item.empty() || *end != '\0') {
+      *error = "--marginals: '" + item + "' is not a node id";
+      return false;
+    }
+    ids->push_back(id);
+  }
+  return true;
+}
+
+// Which robust kernel a factor gets.
+const RobustKernelSpec& KernelFor(const OptimizeConfig& config,
+                                  const Factor& factor) {
+  if (factor.keys.size() == 1) return config.robust_prior;
+  const int64_t gap = factor.keys[1].id - factor.keys[0].id;
+  return gap == 1 || gap == -1 ? config.robust_odometry
+                               : config.robust_loop_closure;
+}
+
+void ApplyKernels(const OptimizeConfig& config, Graph* graph) {
+  std::vector<std::pair<FactorId, std::shared_ptr<ceres::LossFunction>>>
+      losses;
+  for (const auto& [id, factor] : graph->factors()) {
+    losses.emplace_back(id, MakeLoss(KernelFor(config, factor)));
+  }
+  for (auto& [id, loss] : losses) graph->SetLoss(id, std::move(loss));
+}
+
+double Seconds(std::chrono::steady_clock::time_point since) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() -
+                                       since)
+      .count();
+}
+
+// Values of all nodes, to restore a start that turned out worse.
+std::vector<std::vector<double>> SaveValues(const Graph& graph) {
+  std::vector<std::vector<double>> values;
+  for (const auto& [key, node] : graph.nodes()) values.push_back(node->value);
+  return values;
+}
+
+void RestoreValues(const std::vector<std::vector<double>>& values,
+                   Graph* graph) {
+  size_t k = 0;
+  for (const auto& [key, node] : graph->nodes()) node->value = values[k++];
+}
+
+// Runs the configured initialization; returns the name of what was used.
+bool Initialize(const std::string& init, Graph* graph, std::string* used,
+                std::string* error) {
+  if (init != "auto") {
+    InitMethod method;
+    ParseInitMethod(init, &method);
+    *used = init;
+    return InitializePoses(graph, method, error);
+  }
+  // Compared under the robust kernels when there are any: a relaxation that
+  // spread outlier loop closures over the whole graph scores badly there.
+  const double file_chi2 = graph->RobustChi2();
+  const std::vector<std::vector<double>> file_values = SaveValues(*graph);
+  if (!InitializePoses(graph, InitMethod::kChordal, error)) return false;
+  const double chordal_chi2 = graph->RobustChi2();
+  // The better start of the two; the file's guess only when it has one.
+  if (file_chi2 < chordal_chi2) {
+    RestoreValues(file_values, graph);
+    *used = "file";
+  } else {
+    *used = "chordal";
+  }
+  std::printf("auto initialization: chi2 of the file's guess %.10g, of the "
+              "chordal relaxation %.10g: using %s\n",
+              file_chi2, chordal_chi2, used->c_str());
+  return true;
+}
+
+}  // namespace
+
+int RunOptimizeCommand(const std::vector<std::string>& args) {
+  const auto start = std::chrono::steady_clock::now();
+  OptimizeConfig config;
+  std::string error;
+  if (!BuildConfig(&config, &error)) {
+    std::cerr << "slam optimize: " << error << "\n";
+    return 2;
+  }
+  if (FLAGS_dump_config) {
+    std::cout << OptimizeConfigToYaml(config);
+    return 0;
+  }
+  std::string input = FLAGS_i;
+  if (input.empty() && args.size() == 1) input = args[0];
+  if (input.empty()) {
+    std::cerr << "slam optimize: no input; usage: slam optimize -i IN [-o OUT]"
+                 " [--init ...] [--solver ...] [--robust KIND:WIDTH]"
+                 " [--max_iterations N] [--marginals ID,...] [--config FILE]"
+                 " [--report FILE.json]\n";
+    return 2;
+  }
+  std::vector<int64_t> marginal_ids;
+  if (!ParseIds(FLAGS_marginals, &marginal_ids, &error)) {
+    std::cerr << "slam optimize: " << error << "\n";
+    return 2;
+  }
+
+  // Load.
+  Graph graph;
+  GraphReadOptions read_options;
+  read_options.repair_information = config.repair_information;
+  GraphReadReport read_report;
+  if (!ReadPoseGraph(input, read_options, &graph, &read_report, &error)) {
+    std::cerr << "slam optimize: " << error << "\n";
+    return 1;
+  }
+  for (const std::string& warning : read_report.warnings) {
+    std::cerr << "warning: " << warning << "\n";
+  }
+  if (read_report.repaired_information > 0) {
+    std::cerr << "repaired " << read_report.repaired_information
+              << " information matrices that were not positive definite\n";
+  }
+  const double load_seconds = Seconds(start);
+  const double file_chi2 = graph.Chi2();
+  std::printf("loaded %s: %zu nodes, %zu factors, chi2 %.10g (%.3f s)\n",
+              input.c_str(), graph.NumNodes(), graph.NumFactors(), file_chi2,
+              load_seconds);
+
+  ApplyKernels(config, &graph);
+
+  // Initialize.
+  const auto init_start = std::chrono::steady_clock::now();
+  std::string init_used;
+  if (!Initialize(config.init, &graph, &init_used, &error)) {
+    std::cerr << "slam optimize: initialization failed: " << error << "\n";
+    return 1;
+  }
+  const double init_seconds = Seconds(init_start);
+  std::printf("initialization: %s, chi2 %.10g (%.3f s)\n", init_used.c_str(),
+              graph.Chi2(), init_seconds);
+
+  // Solve.
+  const OptimizerSummary summary =
+      Optimize(&graph, config.optimizer, &std::cout);
+  if (!summary.usable) {
+    std::cerr << "slam optimize: the solver failed: " << summary.termination
+              << "\n";
+    return 1;
+  }
+  if (FLAGS_ceres_report) std::cout << summary.full_report << "\n";
+  std::printf("solver: %s, linear solver %s, ordering %s, gauge: %s\n",
+              SolverKindName(config.optimizer.solver),
+              summary.linear_solver.c_str(), summary.ordering.c_str(),
+              summary.gauge.c_str());
+
+  // Marginals.
+  JsonObject marginals_json;
+  if (!marginal_ids.empty()) {
+    std::vector<Key> keys;
+    for (int64_t id : marginal_ids) {
+      Key key = Pose2Key(id);
+      if (!graph.HasNode(key)) key = Pose3Key(id);
+      keys.push_back(key);
+    }
+    std::map<Key, Eigen::MatrixXd> covariances;
+    if (!ComputeMarginals(&graph, keys, &covariances, &error)) {
+      std::cerr << "slam optimize: marginals: " << error << "\n";
+      return 1;
+    }
+    std::printf(
+        "marginal covariances (body frame, translation first, full angle):\n");
+    for (const auto& [key, cov] : covariances) {
+      std::printf("  node %lld:\n", static_cast<long long>(key.id));
+      std::vector<double> flat;
+      for (int r = 0; r < cov.rows(); ++r) {
+        std::printf("   ");
+        for (int c = 0; c < cov.cols(); ++c) {
+          std::printf(" % .6e", cov(r, c));
+          flat.push_back(cov(r, c));
+        }
+        std::printf("\n");
+      }
+      marginals_json.Add(std::to_string(key.id), flat);
+    }
+  }
+
+  // Write.
+  const auto write_start = std::chrono::steady_clock::now();
+  if (!FLAGS_o.empty() && !WritePoseGraph(FLAGS_o, graph, &error)) {
+    std::cerr << "slam optimize: " << error << "\n";
+    return 1;
+  }
+  const double write_seconds = Seconds(write_start);
+  const double total_seconds = Seconds(start);
+  std::printf("chi2 %.10g -> %.10g in %d iterations (%s); total %.3f s%s%s\n",
+              summary.initial_chi2, summary.final_chi2, summary.iterations,
+              summary.converged ? "converged" : "NOT converged", total_seconds,
+              FLAGS_o.empty() ? "" : ", wrote ", FLAGS_o.c_str());
+
+  if (!FLAGS_report.empty()) {
+    JsonObject report;
+    report.Add("input", input)
+        .Add("nodes", graph.NumNodes())
+        .Add("factors", graph.NumFactors())
+        .Add("file_chi2", file_chi2)
+        .Add("initial_chi2", summary.initial_chi2)
+        .Add("final_chi2", summary.final_chi2)
+        .Add("initial_robust_chi2", summary.initial_robust_chi2)
+        .Add("final_robust_chi2", summary.final_robust_chi2)
+        .Add("iterations", summary.iterations)
+        .Add("converged", summary.converged)
+        .Add("termination", summary.termination)
+        .Add("init", init_used)
+        .Add("solver", SolverKindName(config.optimizer.solver))
+        .Add("linear_solver", summary.linear_solver)
+        .Add("repaired_information", read_report.repaired_information)
+        .Add("load_seconds", load_seconds)
+        .Add("init_seconds", init_seconds)
+        .Add("solve_seconds", summary.solve_seconds)
+        .Add("write_seconds", write_seconds)
+        .Add("total_seconds", total_seconds);
+    if (!marginals_json.empty()) report.Add("marginals", marginals_json);
+    if (!WriteFileAtomically(FLAGS_report, report.ToString() + "\n",
+                             &error)) {
+      std::cerr << "slam optimize: " << error << "\n";
+      return 1;
+    }
+  }
+  return 0;
+}
+
+}  // namespace slam

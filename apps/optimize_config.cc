@@ -1,0 +1,144 @@
+#include "apps/optimize_config.h"
+
+#include <sstream>
+
+#include "apps/yaml_config.h"
+#include "core/initialization.h"
+
+namespace slam {
+namespace {
+
+bool ReadKernel(const YAML::Node& node, const char* key,
+                const std::string& where, RobustKernelSpec* spec,
+                std::string* error) {
+  std::string text = spec->ToString();
+  if (!ReadOptional(node, key, where, &text, error)) return false;
+  std::string parse_error;
+  if (!ParseRobustKernel(text, spec, &parse_error)) {
+    *error = where + ": robust." + key + ": " + parse_error;
+    return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+bool LoadOptimizeConfig(const std::string& path, OptimizeConfig* config,
+                        std::string* error) {
+  YAML::Node root;
+  if (!LoadYamlFile(path, &root, error)) return false;
+  if (!root || root.IsNull()) return true;
+  if (!CheckTopLevelSections(root, path, error)) return false;
+  const YAML::Node node = root["optimize"];
+  if (!node) return true;
+  if (!CheckKnownKeys(node,
+                      {"init", "solver", "max_iterations", "function_tolerance",
+                       "gradient_tolerance", "parameter_tolerance",
+                       "initial_trust_region_radius", "linear_solver",
+                       "ordering", "num_threads", "verbose",
+                       "repair_information", "robust"},
+                      path, error)) {
+    return false;
+  }
+  OptimizerOptions& o = config->optimizer;
+  std::string solver = SolverKindName(o.solver);
+  if (!ReadOptional(node, "init", path, &config->init, error) ||
+      !ReadOptional(node, "solver", path, &solver, error) ||
+      !ReadOptional(node, "max_iterations", path, &o.max_iterations, error) ||
+      !ReadOptional(node, "function_tolerance", path, &o.function_tolerance,
+                    error) ||
+      !ReadOptional(node, "gradient_tolerance", path, &o.gradient_tolerance,
+                    error) ||
+      !ReadOptional(node, "parameter_tolerance", path, &o.parameter_tolerance,
+                    error) ||
+      !ReadOptional(node, "initial_trust_region_radius", path,
+                    &o.initial_trust_region_radius, error) ||
+      !ReadOptional(node, "linear_solver", path, &o.linear_solver, error) ||
+      !ReadOptional(node, "ordering", path, &o.ordering, error) ||
+      !ReadOptional(node, "num_threads", path, &o.num_threads, error) ||
+      !ReadOptional(node, "verbose", path, &o.verbose, error) ||
+      !ReadOptional(node, "repair_information", path,
+                    &config->repair_information, error)) {
+    return false;
+  }
+  if (!ParseSolverKind(solver, &o.solver)) {
+    *error = path + ": optimize.solver '" + solver +
+             "' is not one of lm, gn, dogleg";
+    return false;
+  }
+  const YAML::Node robust = node["robust"];
+  if (robust) {
+    if (!CheckKnownKeys(robust, {"odometry", "loop_closure", "prior"}, path,
+                        error) ||
+        !ReadKernel(robust, "odometry", path, &config->robust_odometry,
+                    error) ||
+        !ReadKernel(robust, "loop_closure", path, &config->robust_loop_closure,
+                    error) ||
+        !ReadKernel(robust, "prior", path, &config->robust_prior, error)) {
+      return false;
+    }
+  }
+  return ValidateOptimizeConfig(*config, error);
+}
+
+bool ValidateOptimizeConfig(const OptimizeConfig& config, std::string* error) {
+  InitMethod method;
+  if (config.init != "auto" && !ParseInitMethod(config.init, &method)) {
+    *error = "init '" + config.init +
+             "' is not one of auto, none, odometry, spanning_tree, chordal";
+    return false;
+  }
+  const OptimizerOptions& o = config.optimizer;
+  if (o.max_iterations < 0) {
+    *error = "max_iterations must be >= 0";
+    return false;
+  }
+  if (o.num_threads < 1) {
+    *error = "num_threads must be >= 1";
+    return false;
+  }
+  if (!(o.initial_trust_region_radius > 0)) {
+    *error = "initial_trust_region_radius must be > 0";
+    return false;
+  }
+  if (o.ordering != "auto" && o.ordering != "amd" && o.ordering != "metis" &&
+      o.ordering != "nesdis" && o.ordering != "ceres") {
+    *error = "ordering '" + o.ordering +
+             "' is not one of auto, amd, metis, nesdis, ceres";
+    return false;
+  }
+  if (!(o.function_tolerance >= 0) || !(o.gradient_tolerance >= 0) ||
+      !(o.parameter_tolerance >= 0)) {
+    *error = "tolerances must be >= 0";
+    return false;
+  }
+  return true;
+}
+
+std::string OptimizeConfigToYaml(const OptimizeConfig& config) {
+  const OptimizerOptions& o = config.optimizer;
+  std::ostringstream out;
+  out.precision(17);
+  out << "optimize:\n"
+      << "  init: " << config.init << "\n"
+      << "  solver: " << SolverKindName(o.solver) << "\n"
+      << "  max_iterations: " << o.max_iterations << "\n"
+      << "  function_tolerance: " << o.function_tolerance << "\n"
+      << "  gradient_tolerance: " << o.gradient_tolerance << "\n"
+      << "  parameter_tolerance: " << o.parameter_tolerance << "\n"
+      << "  initial_trust_region_radius: " << o.initial_trust_region_radius
+      << "\n"
+      << "  linear_solver: " << o.linear_solver << "\n"
+      << "  ordering: " << o.ordering << "\n"
+      << "  num_threads: " << o.num_threads << "\n"
+      << "  verbose: " << (o.verbose ? "true" : "false") << "\n"
+      << "  repair_information: "
+      << (config.repair_information ? "true" : "false") << "\n"
+      << "  robust:\n"
+      << "    odometry: " << config.robust_odometry.ToString() << "\n"
+      << "    loop_closure: " << config.robust_loop_closure.ToString() << "\n"
+      << "    prior: " << config.robust_prior.ToString() << "\n";
+  return out.str();
+}
+
+}  // namespace slam

@@ -1,0 +1,218 @@
+// slam simulate: write a synthetic pose-graph dataset with ground truth
+// (datasets/simulator.h) into a directory:
+//
+//   DIR/graph.g2o          noisy measurements; vertices = dead reckoning
+//   DIR/ground_truth.g2o   the same edges; vertices = the true poses
+//   DIR/ground_truth.tum   true trajectory, "t x y z qx qy qz qw" (t = index
+//                          in seconds; 2D poses lifted to z = 0)
+//   DIR/outliers.txt       the outlier loop closures, if any: one line per
+//                          edge, "edge_index from_id to_id", edge_index being
+//                          the 0-based position among the EDGE lines of the
+//                          .g2o files (an outliers.txt left by an earlier run
+//                          without outliers is removed)
+//
+// Settings: defaults < --config FILE (the `simulate:` section, see
+// apps/simulate_config.h and configs/simulate_*.yaml) < explicit flags.
+// --dump_config prints the effective settings as YAML and exits.
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <set>
+#include <string>
+#include <vector>
+
+#include <gflags/gflags.h>
+
+#include "apps/commands.h"
+#include "apps/common_flags.h"
+#include "apps/simulate_config.h"
+#include "datasets/atomic_file.h"
+#include "datasets/g2o_io.h"
+#include "datasets/simulator.h"
+#include "datasets/trajectory_io.h"
+
+// The output path; defined by the optimize command (apps/optimize_command.cc).
+DECLARE_string(o);
+
+DEFINE_string(world, ::slam::SimulationConfig().world.type.c_str(),
+              "simulate: world type, grid2d | grid3d | sphere3d");
+DEFINE_int32(num_poses, ::slam::SimulationConfig().world.num_poses,
+             "simulate: number of poses");
+DEFINE_uint64(seed, ::slam::SimulationConfig().seed,
+              "simulate: random seed (a seed gives the same dataset)");
+DEFINE_double(outlier_fraction,
+              ::slam::SimulationConfig().loop_closures.outlier_fraction,
+              "simulate: share of loop closures that are wrong, [0, 1)");
+DEFINE_double(odometry_sigma_t,
+              ::slam::SimulationConfig().odometry.sigma_translation,
+              "simulate: odometry noise, translation per axis [m]");
+DEFINE_double(odometry_sigma_r,
+              ::slam::SimulationConfig().odometry.sigma_rotation,
+              "simulate: odometry noise, rotation per axis [rad, full angle]");
+DEFINE_double(loop_sigma_t,
+              ::slam::SimulationConfig().loop_closures.noise.sigma_translation,
+              "simulate: loop-closure noise, translation per axis [m]");
+DEFINE_double(loop_sigma_r,
+              ::slam::SimulationConfig().loop_closures.noise.sigma_rotation,
+              "simulate: loop-closure noise, rotation per axis [rad]");
+DEFINE_double(loop_probability,
+              ::slam::SimulationConfig().loop_closures.probability,
+              "simulate: chance that a pose closes its loops");
+
+namespace slam {
+namespace {
+
+bool FlagGiven(const char* name) {
+  return !gflags::GetCommandLineFlagInfoOrDie(name).is_default;
+}
+
+// defaults < --config < explicit flags; validated.
+bool BuildConfig(SimulationConfig* config, std::string* error) {
+  if (!FLAGS_config.empty() &&
+      !LoadSimulationConfig(FLAGS_config, config, error)) {
+    return false;
+  }
+  if (FlagGiven("world")) config->world.type = FLAGS_world;
+  if (FlagGiven("num_poses")) config->world.num_poses = FLAGS_num_poses;
+  if (FlagGiven("seed")) config->seed = FLAGS_seed;
+  SimulationConfig::LoopClosures& lc = config->loop_closures;
+  if (FlagGiven("outlier_fraction")) {
+    lc.outlier_fraction = FLAGS_outlier_fraction;
+  }
+  if (FlagGiven("odometry_sigma_t")) {
+    config->odometry.sigma_translation = FLAGS_odometry_sigma_t;
+  }
+  if (FlagGiven("odometry_sigma_r")) {
+    config->odometry.sigma_rotation = FLAGS_odometry_sigma_r;
+  }
+  if (FlagGiven("loop_sigma_t")) {
+    lc.noise.sigma_translation = FLAGS_loop_sigma_t;
+  }
+  if (FlagGiven("loop_sigma_r")) lc.noise.sigma_rotation = FLAGS_loop_sigma_r;
+  if (FlagGiven("loop_probability")) lc.probability = FLAGS_loop_probability;
+  return ValidateSimulationConfig(*config, error);
+}
+
+// One line per outlier edge: "edge_index from_id to_id".
+std::string OutliersText(const SimulationResult& result) {
+  std::string text =
+      "# Outlier loop closures: edge_index from_id to_id (edge_index: "
+      "0-based position among the EDGE lines of graph.g2o)\n";
+  for (FactorId id : result.outlier_factors) {
+    const Factor* f = result.graph.FindFactor(id);
+    text += std::to_string(id) + " " + std::to_string(f->keys[0].id) + " " +
+            std::to_string(f->keys[1].id) + "\n";
+  }
+  return text;
+}
+
+// chi2 of the graph's current values over the factors not in `skip`.
+double Chi2Without(const Graph& graph, const std::vector<FactorId>& skip) {
+  const std::set<FactorId> skipped(skip.begin(), skip.end());
+  double sum = 0.0;
+  for (const auto& [id, factor] : graph.factors()) {
+    if (skipped.count(id) > 0) continue;
+    double chi2 = 0.0;
+    if (graph.FactorChi2(factor, &chi2)) sum += chi2;
+  }
+  return sum;
+}
+
+int Fail(const std::string& message, int code = 1) {
+  std::cerr << "slam simulate: " << message << "\n";
+  return code;
+}
+
+}  // namespace
+
+int RunSimulateCommand(const std::vector<std::string>& args) {
+  if (!args.empty()) {
+    return Fail("unexpected argument '" + args[0] +
+                    "'; usage: slam simulate -o DIR [--world ...] "
+                    "[--num_poses N] [--seed S] [--outlier_fraction F] "
+                    "[--config FILE] [--dump_config]",
+                2);
+  }
+  SimulationConfig config;
+  std::string error;
+  if (!BuildConfig(&config, &error)) return Fail(error, 2);
+  if (FLAGS_dump_config) {
+    std::cout << SimulationConfigToYaml(config);
+    return 0;
+  }
+  if (FLAGS_o.empty()) {
+    return Fail("no output directory; usage: slam simulate -o DIR", 2);
+  }
+
+  SimulationResult result;
+  if (!Simulate(config, &result, &error)) return Fail(error);
+
+  // Write.
+  const std::filesystem::path dir(FLAGS_o);
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec || !std::filesystem::is_directory(dir)) {
+    return Fail(FLAGS_o + ": cannot create the output directory" +
+                (ec ? " (" + ec.message() + ")" : std::string()));
+  }
+  const std::string graph_path = (dir / "graph.g2o").string();
+  const std::string truth_path = (dir / "ground_truth.g2o").string();
+  const std::string tum_path = (dir / "ground_truth.tum").string();
+  const std::string outliers_path = (dir / "outliers.txt").string();
+  const double initial_chi2 = result.graph.Chi2();
+  if (!WriteG2o(graph_path, result.graph, &error)) return Fail(error);
+  SetNodeValues(result.ground_truth, &result.graph);
+  const double truth_chi2 = result.graph.Chi2();
+  const double truth_inlier_chi2 =
+      Chi2Without(result.graph, result.outlier_factors);
+  if (!WriteG2o(truth_path, result.graph, &error) ||
+      !WriteTrajectory(tum_path, result.ground_truth_trajectory,
+                       TrajectoryFormat::kTum, &error)) {
+    return Fail(error);
+  }
+  bool removed_stale_outliers = false;
+  if (!result.outlier_factors.empty()) {
+    if (!WriteFileAtomically(outliers_path, OutliersText(result), &error)) {
+      return Fail(error);
+    }
+  } else if (std::filesystem::exists(outliers_path)) {
+    removed_stale_outliers = std::filesystem::remove(outliers_path, ec);
+  }
+
+  // Summary.
+  const size_t num_outliers = result.outlier_factors.size();
+  const size_t num_inliers = result.loop_closure_factors.size() - num_outliers;
+  const int dim = result.is_3d ? 6 : 3;
+  const double dof = static_cast<double>(
+      dim * (result.odometry_factors.size() + num_inliers));
+  std::printf("simulated %s world (seed %llu): %zu poses, %zu odometry, "
+              "%zu loop closures (%zu outliers)\n",
+              config.world.type.c_str(),
+              static_cast<unsigned long long>(config.seed),
+              result.graph.NumNodes(), result.odometry_factors.size(),
+              result.loop_closure_factors.size(), num_outliers);
+  std::printf("noise (1 sigma per axis; rotation full angle): odometry "
+              "%g m, %g rad; loop closures %g m, %g rad\n",
+              config.odometry.sigma_translation,
+              config.odometry.sigma_rotation,
+              config.loop_closures.noise.sigma_translation,
+              config.loop_closures.noise.sigma_rotation);
+  std::printf("chi2 of the initial guess (dead reckoning): %.10g\n",
+              initial_chi2);
+  std::printf("chi2 of the ground truth: %.10g; without the outliers %.10g "
+              "(expected %.0f +- %.0f)\n",
+              truth_chi2, truth_inlier_chi2, dof, std::sqrt(2.0 * dof));
+  std::printf("wrote %s, %s, %s", graph_path.c_str(), truth_path.c_str(),
+              tum_path.c_str());
+  if (num_outliers > 0) std::printf(", %s", outliers_path.c_str());
+  std::printf("\n");
+  if (removed_stale_outliers) {
+    std::printf("removed %s left by an earlier run\n", outliers_path.c_str());
+  }
+  std::printf("next: slam optimize -i %s -o %s\n", graph_path.c_str(),
+              (dir / "optimized.g2o").string().c_str());
+  return 0;
+}
+
+}  // namespace slam

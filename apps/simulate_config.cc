@@ -1,0 +1,187 @@
+#include "apps/simulate_config.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <sstream>
+#include <vector>
+
+#include "apps/yaml_config.h"
+
+namespace slam {
+namespace {
+
+bool ReadNoise(const YAML::Node& node, const std::string& where,
+               SimulationConfig::Noise* noise, std::string* error) {
+  return ReadOptional(node, "sigma_translation", where,
+                      &noise->sigma_translation, error) &&
+         ReadOptional(node, "sigma_rotation", where, &noise->sigma_rotation,
+                      error);
+}
+
+// Shortest text that reads back as exactly `value`, with a decimal point so
+// that it reads as a float.
+std::string FormatDouble(double value) {
+  if (std::isnan(value)) return ".nan";
+  if (std::isinf(value)) return value > 0 ? ".inf" : "-.inf";
+  char buffer[64];
+  const auto result = std::to_chars(buffer, buffer + sizeof(buffer), value);
+  std::string text(buffer, result.ptr);
+  if (text.find_first_of(".e") == std::string::npos) text += ".0";
+  return text;
+}
+
+// Lines "key: value" with aligned trailing comments.
+class YamlWriter {
+ public:
+  void Section(int indent, const std::string& name,
+               const std::string& comment = "") {
+    Line(indent, name + ":", comment);
+  }
+  template <typename T>
+  void Value(int indent, const std::string& key, const T& value,
+             const std::string& comment = "") {
+    std::ostringstream text;
+    text << key << ": " << value;
+    Line(indent, text.str(), comment);
+  }
+  void Value(int indent, const std::string& key, double value,
+             const std::string& comment = "") {
+    Line(indent, key + ": " + FormatDouble(value), comment);
+  }
+  std::string str() const { return out_.str(); }
+
+ private:
+  void Line(int indent, const std::string& text, const std::string& comment) {
+    std::string line = std::string(indent, ' ') + text;
+    if (!comment.empty()) {
+      constexpr size_t kCommentColumn = 34;
+      line.resize(std::max(line.size() + 1, kCommentColumn), ' ');
+      line += "# " + comment;
+    }
+    out_ << line << "\n";
+  }
+
+  std::ostringstream out_;
+};
+
+}  // namespace
+
+bool SimulationConfigFromYaml(const YAML::Node& root, const std::string& where,
+                              SimulationConfig* config, std::string* error) {
+  if (!root || root.IsNull()) return true;
+  if (!CheckTopLevelSections(root, where, error)) return false;
+  const YAML::Node node = root["simulate"];
+  if (!node || node.IsNull()) return true;
+  if (!CheckKnownKeys(node, {"seed", "world", "odometry", "loop_closures"},
+                      where, error) ||
+      !ReadOptional(node, "seed", where, &config->seed, error)) {
+    return false;
+  }
+  const YAML::Node world = node["world"];
+  if (world && !world.IsNull()) {
+    SimulationConfig::World& w = config->world;
+    if (!CheckKnownKeys(world,
+                        {"type", "num_poses", "step", "grid_size",
+                         "turn_probability", "poses_per_ring", "radius"},
+                        where, error) ||
+        !ReadOptional(world, "type", where, &w.type, error) ||
+        !ReadOptional(world, "num_poses", where, &w.num_poses, error) ||
+        !ReadOptional(world, "step", where, &w.step, error) ||
+        !ReadOptional(world, "grid_size", where, &w.grid_size, error) ||
+        !ReadOptional(world, "turn_probability", where, &w.turn_probability,
+                      error) ||
+        !ReadOptional(world, "poses_per_ring", where, &w.poses_per_ring,
+                      error) ||
+        !ReadOptional(world, "radius", where, &w.radius, error)) {
+      return false;
+    }
+  }
+  const YAML::Node odometry = node["odometry"];
+  if (odometry && !odometry.IsNull()) {
+    if (!CheckKnownKeys(odometry, {"sigma_translation", "sigma_rotation"},
+                        where, error) ||
+        !ReadNoise(odometry, where, &config->odometry, error)) {
+      return false;
+    }
+  }
+  const YAML::Node loops = node["loop_closures"];
+  if (loops && !loops.IsNull()) {
+    SimulationConfig::LoopClosures& lc = config->loop_closures;
+    if (!CheckKnownKeys(loops,
+                        {"sigma_translation", "sigma_rotation", "radius",
+                         "probability", "max_per_pose", "min_index_gap",
+                         "outlier_fraction", "outlier_max_translation"},
+                        where, error) ||
+        !ReadNoise(loops, where, &lc.noise, error) ||
+        !ReadOptional(loops, "radius", where, &lc.radius, error) ||
+        !ReadOptional(loops, "probability", where, &lc.probability, error) ||
+        !ReadOptional(loops, "max_per_pose", where, &lc.max_per_pose, error) ||
+        !ReadOptional(loops, "min_index_gap", where, &lc.min_index_gap,
+                      error) ||
+        !ReadOptional(loops, "outlier_fraction", where, &lc.outlier_fraction,
+                      error) ||
+        !ReadOptional(loops, "outlier_max_translation", where,
+                      &lc.outlier_max_translation, error)) {
+      return false;
+    }
+  }
+  return true;
+}
+
+bool LoadSimulationConfig(const std::string& path, SimulationConfig* config,
+                          std::string* error) {
+  YAML::Node root;
+  if (!LoadYamlFile(path, &root, error) ||
+      !SimulationConfigFromYaml(root, path, config, error)) {
+    return false;
+  }
+  if (!ValidateSimulationConfig(*config, error)) {
+    *error = path + ": simulate." + *error;
+    return false;
+  }
+  return true;
+}
+
+std::string SimulationConfigToYaml(const SimulationConfig& config) {
+  const SimulationConfig::World& w = config.world;
+  const SimulationConfig::LoopClosures& lc = config.loop_closures;
+  YamlWriter out;
+  out.Section(0, "simulate");
+  out.Value(2, "seed", config.seed);
+  out.Section(2, "world");
+  out.Value(4, "type", w.type, "grid2d | grid3d | sphere3d");
+  out.Value(4, "num_poses", w.num_poses);
+  out.Value(4, "step", w.step, "grid worlds: lattice spacing [m]");
+  out.Value(4, "grid_size", w.grid_size,
+            "grid worlds: lattice points per side");
+  out.Value(4, "turn_probability", w.turn_probability,
+            "grid worlds: chance to turn at a move");
+  out.Value(4, "poses_per_ring", w.poses_per_ring,
+            "sphere3d: poses per revolution");
+  out.Value(4, "radius", w.radius, "sphere3d: sphere radius [m]");
+  out.Section(2, "odometry");
+  out.Value(4, "sigma_translation", config.odometry.sigma_translation,
+            "[m] per axis");
+  out.Value(4, "sigma_rotation", config.odometry.sigma_rotation,
+            "[rad] full angle, per axis");
+  out.Section(2, "loop_closures");
+  out.Value(4, "sigma_translation", lc.noise.sigma_translation,
+            "[m] per axis");
+  out.Value(4, "sigma_rotation", lc.noise.sigma_rotation,
+            "[rad] full angle, per axis");
+  out.Value(4, "radius", lc.radius, "grid worlds: revisit distance [m]");
+  out.Value(4, "probability", lc.probability,
+            "chance that a pose closes its loops");
+  out.Value(4, "max_per_pose", lc.max_per_pose, "grid worlds");
+  out.Value(4, "min_index_gap", lc.min_index_gap,
+            "no closures to the last few poses");
+  out.Value(4, "outlier_fraction", lc.outlier_fraction,
+            "share of wrong loop closures, [0, 1)");
+  out.Value(4, "outlier_max_translation", lc.outlier_max_translation,
+            "outliers: translation range [m]");
+  return out.str();
+}
+
+}  // namespace slam

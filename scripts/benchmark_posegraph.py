@@ -1,0 +1,131 @@
+#!/usr/bin/python3
+"""Pose-graph benchmark: runs `slam optimize` (default settings) on every
+pose graph listed in configs/benchmarks/posegraph.yaml, three times each, and
+prints one table as markdown and CSV: dataset, nodes, edges, init, initial
+chi2, final chi2, gap to the known optimum, iterations, median wall time and
+the time target.
+
+Usage: scripts/benchmark_posegraph.py [--datasets DIR] [--runs 3]
+       [--slam build/slam] [--csv out.csv] [--md out.md] [--only NAME...]
+Runs with Debian's python3 (python3-yaml)."""
+
+import argparse
+import csv
+import io
+import json
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+import yaml
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def run_once(slam, path, out_dir, extra):
+    out = os.path.join(out_dir, "out" + os.path.splitext(path)[1])
+    report = os.path.join(out_dir, "report.json")
+    cmd = [slam, "optimize", "-i", path, "-o", out, "--report", report,
+           "--quiet"] + extra
+    start = time.perf_counter()
+    proc = subprocess.run(cmd, capture_output=True, text=True)
+    wall = time.perf_counter() - start
+    if proc.returncode != 0:
+        raise RuntimeError("%s failed (%d):\n%s%s" % (" ".join(cmd),
+                           proc.returncode, proc.stdout, proc.stderr))
+    with open(report) as f:
+        return wall, json.load(f)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--datasets", default=os.environ.get(
+        "SLAM_DATASETS", os.path.join(ROOT, "..", "shared", "datasets")))
+    parser.add_argument("--config", default=os.path.join(
+        ROOT, "configs", "benchmarks", "posegraph.yaml"))
+    parser.add_argument("--slam", default=os.path.join(ROOT, "build", "slam"))
+    parser.add_argument("--runs", type=int, default=3)
+    parser.add_argument("--csv", help="also write the CSV table here")
+    parser.add_argument("--md", help="also write the markdown table here")
+    parser.add_argument("--only", nargs="*", help="substrings of file names")
+    parser.add_argument("--extra", default="",
+                        help="extra flags for slam optimize, e.g. '--init chordal'")
+    args = parser.parse_args()
+
+    with open(args.config) as f:
+        entries = yaml.safe_load(f)["datasets"]
+    rows = []
+    failures = 0
+    with tempfile.TemporaryDirectory() as tmp:
+        for entry in entries:
+            name = entry["file"]
+            if args.only and not any(s in name for s in args.only):
+                continue
+            path = os.path.join(args.datasets, name)
+            if not os.path.exists(path):
+                print("skip %s: not found under %s" % (name, args.datasets),
+                      file=sys.stderr)
+                continue
+            walls, report = [], None
+            try:
+                for _ in range(args.runs):
+                    wall, report = run_once(args.slam, path, tmp,
+                                            args.extra.split())
+                    walls.append(wall)
+            except RuntimeError as e:
+                print(e, file=sys.stderr)
+                failures += 1
+                continue
+            optimum = entry.get("optimum")
+            final = report["final_chi2"]
+            gap = (final - optimum) / optimum if optimum else None
+            target = entry.get("target_seconds")
+            median = statistics.median(walls)
+            ok_chi2 = gap is None or gap <= 1e-6
+            ok_time = target is None or median <= target
+            rows.append({
+                "dataset": os.path.basename(name),
+                "nodes": report["nodes"],
+                "edges": report["factors"],
+                "init": report["init"],
+                "initial_chi2": "%.10g" % report["initial_chi2"],
+                "final_chi2": "%.10g" % final,
+                "optimum": "%.10g" % optimum if optimum else "",
+                "rel_gap": "%.1e" % gap if gap is not None else "",
+                "iterations": report["iterations"],
+                "median_s": "%.3f" % median,
+                "target_s": "%.2f" % target if target else "",
+                "ok": "yes" if ok_chi2 and ok_time else
+                      ("CHI2" if not ok_chi2 else "TIME"),
+            })
+            print("%-32s done (%.3f s)" % (name, median), file=sys.stderr)
+
+    if not rows:
+        print("no dataset found", file=sys.stderr)
+        return 1
+    cols = list(rows[0].keys())
+    md = io.StringIO()
+    md.write("| " + " | ".join(cols) + " |\n")
+    md.write("|" + "|".join("---" for _ in cols) + "|\n")
+    for r in rows:
+        md.write("| " + " | ".join(str(r[c]) for c in cols) + " |\n")
+    out_csv = io.StringIO()
+    writer = csv.DictWriter(out_csv, fieldnames=cols)
+    writer.writeheader()
+    writer.writerows(rows)
+    print(md.getvalue())
+    print(out_csv.getvalue())
+    if args.md:
+        with open(args.md, "w") as f:
+            f.write(md.getvalue())
+    if args.csv:
+        with open(args.csv, "w") as f:
+            f.write(out_csv.getvalue())
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
