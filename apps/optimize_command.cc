@@ -228,10 +228,11 @@ int RunOptimizeCommand(const std::vector<std::string>& args) {
     return 1;
   }
   if (FLAGS_ceres_report) std::cout << summary.full_report << "\n";
-  std::printf("solver: %s, linear solver %s, ordering %s, gauge: %s\n",
-              SolverKindName(config.optimizer.solver),
-              summary.linear_solver.c_str(), summary.ordering.c_str(),
-              summary.gauge.c_str());
+  std::printf(
+      "solver: %s, linear solver %s (%s, ordering %s), gauge: %s\n",
+      SolverKindName(config.optimizer.solver), summary.linear_solver.c_str(),
+      summary.sparse_library.c_str(), summary.ordering.c_str(),
+      summary.gauge.c_str());
 
   // Marginals.
   JsonObject marginals_json;
@@ -293,6 +294,8 @@ int RunOptimizeCommand(const std::vector<std::string>& args) {
         .Add("init", init_used)
         .Add("solver", SolverKindName(config.optimizer.solver))
         .Add("linear_solver", summary.linear_solver)
+        .Add("sparse_library", summary.sparse_library)
+        .Add("ordering", summary.ordering)
         .Add("repaired_information", read_report.repaired_information)
         .Add("load_seconds", load_seconds)
         .Add("init_seconds", init_seconds)

@@ -35,7 +35,7 @@ bool LoadOptimizeConfig(const std::string& path, OptimizeConfig* config,
                       {"init", "solver", "max_iterations", "function_tolerance",
                        "gradient_tolerance", "parameter_tolerance",
                        "initial_trust_region_radius", "linear_solver",
-                       "ordering", "num_threads", "verbose",
+                       "ordering", "sparse_library", "num_threads", "verbose",
                        "repair_information", "robust"},
                       path, error)) {
     return false;
@@ -55,6 +55,7 @@ bool LoadOptimizeConfig(const std::string& path, OptimizeConfig* config,
                     &o.initial_trust_region_radius, error) ||
       !ReadOptional(node, "linear_solver", path, &o.linear_solver, error) ||
       !ReadOptional(node, "ordering", path, &o.ordering, error) ||
+      !ReadOptional(node, "sparse_library", path, &o.sparse_library, error) ||
       !ReadOptional(node, "num_threads", path, &o.num_threads, error) ||
       !ReadOptional(node, "verbose", path, &o.verbose, error) ||
       !ReadOptional(node, "repair_information", path,
@@ -130,6 +131,7 @@ std::string OptimizeConfigToYaml(const OptimizeConfig& config) {
       << "\n"
       << "  linear_solver: " << o.linear_solver << "\n"
       << "  ordering: " << o.ordering << "\n"
+      << "  sparse_library: " << o.sparse_library << "\n"
       << "  num_threads: " << o.num_threads << "\n"
       << "  verbose: " << (o.verbose ? "true" : "false") << "\n"
       << "  repair_information: "

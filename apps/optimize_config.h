@@ -8,9 +8,10 @@
 //     function_tolerance: 1e-10
 //     gradient_tolerance: 1e-10
 //     parameter_tolerance: 1e-10
-//     initial_trust_region_radius: 1e4
+//     initial_trust_region_radius: 1e12
 //     linear_solver: auto   # auto | sparse_normal_cholesky | dense_qr | ...
 //     ordering: auto        # auto | amd | metis | nesdis | ceres
+//     sparse_library: auto  # auto | suite_sparse | eigen_sparse | cx_sparse
 //     num_threads: 2
 //     verbose: true         # one line per iteration
 //     repair_information: false

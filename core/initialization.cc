@@ -8,7 +8,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/SVD>
-#include <Eigen/SparseCholesky>
+#include <Eigen/CholmodSupport>
 #include <Eigen/SparseCore>
 
 namespace slam {
@@ -162,62 +162,72 @@ void Odometry(const PoseGraphView& view, std::vector<bool>* set) {
   BreadthFirst(view, set);
 }
 
-// Linear least squares over per-node d x m blocks X_k:
+// Linear least squares over per-node D x M blocks X_k:
 //   minimize sum_e |A_a X_a + A_b X_b + C|_W^2  (column-wise, weight W),
-// with the `known` blocks held at their given values.
+// with the `known` blocks held at their given values. The normal equations
+// are factored once by CHOLMOD (supernodal where the fill makes it pay) and
+// solved for all M columns.
+template <int D, int M>
 struct LinearTerm {
   int a, b;
-  Eigen::MatrixXd A_a, A_b, W, C;
+  Eigen::Matrix<double, D, D> A_a, A_b, W;
+  Eigen::Matrix<double, D, M> C;
 };
 
-bool SolveLinear(int d, int m, const std::vector<LinearTerm>& terms,
+template <int D, int M>
+bool SolveLinear(const std::vector<LinearTerm<D, M>>& terms,
                  const std::vector<bool>& known,
-                 std::vector<Eigen::MatrixXd>* x, std::string* error) {
+                 std::vector<Eigen::Matrix<double, D, M>>* x,
+                 std::string* error) {
+  using MatD = Eigen::Matrix<double, D, D>;
   const int n = static_cast<int>(known.size());
   std::vector<int> col(n, -1);
   int num_unknown = 0;
   for (int i = 0; i < n; ++i) {
-    if (!known[i]) col[i] = d * num_unknown++;
+    if (!known[i]) col[i] = D * num_unknown++;
   }
   if (num_unknown == 0) return true;
   std::vector<Eigen::Triplet<double>> triplets;
-  triplets.reserve(terms.size() * 4 * d * d + num_unknown * d);
-  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(d * num_unknown, m);
-  for (const LinearTerm& t : terms) {
-    Eigen::MatrixXd c = t.C;
+  triplets.reserve(terms.size() * 4 * D * D);
+  Eigen::Matrix<double, Eigen::Dynamic, M> rhs =
+      Eigen::Matrix<double, Eigen::Dynamic, M>::Zero(D * num_unknown, M);
+  for (const LinearTerm<D, M>& t : terms) {
+    Eigen::Matrix<double, D, M> c = t.C;
     if (known[t.a]) c += t.A_a * (*x)[t.a];
     if (known[t.b]) c += t.A_b * (*x)[t.b];
     const int idx[2] = {t.a, t.b};
-    const Eigen::MatrixXd* blocks[2] = {&t.A_a, &t.A_b};
+    const MatD* blocks[2] = {&t.A_a, &t.A_b};
     for (int p = 0; p < 2; ++p) {
       if (known[idx[p]]) continue;
-      const Eigen::MatrixXd atw = blocks[p]->transpose() * t.W;
-      rhs.middleRows(col[idx[p]], d) -= atw * c;
+      const MatD atw = blocks[p]->transpose() * t.W;
+      rhs.template middleRows<D>(col[idx[p]]) -= atw * c;
       for (int q = 0; q < 2; ++q) {
         if (known[idx[q]]) continue;
-        const Eigen::MatrixXd h = atw * *blocks[q];
-        for (int r = 0; r < d; ++r) {
-          for (int s = 0; s < d; ++s) {
+        const MatD h = atw * *blocks[q];
+        for (int r = 0; r < D; ++r) {
+          for (int s = 0; s < D; ++s) {
             triplets.emplace_back(col[idx[p]] + r, col[idx[q]] + s, h(r, s));
           }
         }
       }
     }
   }
-  Eigen::SparseMatrix<double> h(d * num_unknown, d * num_unknown);
+  Eigen::SparseMatrix<double> h(D * num_unknown, D * num_unknown);
   h.setFromTriplets(triplets.begin(), triplets.end());
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(h);
+  Eigen::CholmodDecomposition<Eigen::SparseMatrix<double>, Eigen::Lower>
+      solver;
+  solver.compute(h);
   if (solver.info() != Eigen::Success) {
     *error = "the linear system of the chordal initialization is singular";
     return false;
   }
-  const Eigen::MatrixXd sol = solver.solve(rhs);
+  const Eigen::MatrixXd sol = solver.solve(Eigen::MatrixXd(rhs));
   if (solver.info() != Eigen::Success || !sol.allFinite()) {
     *error = "the linear system of the chordal initialization has no solution";
     return false;
   }
   for (int i = 0; i < n; ++i) {
-    if (!known[i]) (*x)[i] = sol.middleRows(col[i], d);
+    if (!known[i]) (*x)[i] = sol.template middleRows<D>(col[i]);
   }
   return true;
 }
@@ -232,98 +242,124 @@ Eigen::Matrix3d ProjectToSO3(const Eigen::Matrix3d& m) {
   return svd.matrixU() * d * svd.matrixV().transpose();
 }
 
-bool Chordal(const PoseGraphView& view, const std::vector<bool>& anchor,
-             std::string* error) {
+// Rotation matrix of a node / of a factor's measurement, 2D or 3D.
+template <int D>
+Eigen::Matrix<double, D, D> NodeRotation(const Node& node) {
+  if constexpr (D == 3) {
+    return Eigen::Quaterniond(node.value[6], node.value[3], node.value[4],
+                              node.value[5])
+        .normalized()
+        .toRotationMatrix();
+  } else {
+    return RotationMatrix2D(node.value[2]);
+  }
+}
+
+template <int D>
+Eigen::Matrix<double, D, D> MeasuredRotation(const Factor& factor) {
+  const Eigen::VectorXd& m = factor.measurement;
+  if constexpr (D == 3) {
+    return Eigen::Quaterniond(m[6], m[3], m[4], m[5])
+        .normalized()
+        .toRotationMatrix();
+  } else {
+    return RotationMatrix2D(m[2]);
+  }
+}
+
+// D = 2 or 3. Rotation unknowns: 2D X_k = (cos, sin), the first column of
+// R_k, with constraint X_b - R_z X_a = 0 (M = 1); 3D X_k = R_k^T, with
+// constraint R_z^T X_a - X_b = 0 (M = 3, one column per row of R_k).
+template <int D>
+bool ChordalImpl(const PoseGraphView& view, const std::vector<bool>& anchor,
+                 std::string* error) {
+  constexpr int M = D == 3 ? 3 : 1;
+  using MatD = Eigen::Matrix<double, D, D>;
+  using VecD = Eigen::Matrix<double, D, 1>;
   const int n = static_cast<int>(view.nodes.size());
-  const int d = view.is_3d ? 3 : 2;
-  const int m = view.is_3d ? 3 : 1;
-  // 1. Rotations. 2D: X_k = (cos, sin) (first column of R_k); constraint
-  // X_b - R_z X_a = 0. 3D: X_k = R_k^T; constraint R_z^T X_a - X_b = 0.
-  std::vector<Eigen::MatrixXd> x(n);
+  // 1. Rotations, weighted isotropically by the rotation information.
+  std::vector<Eigen::Matrix<double, D, M>> x(n);
   for (int i = 0; i < n; ++i) {
-    if (view.is_3d) {
-      x[i] = NodePose3(*view.nodes[i]).q.toRotationMatrix().transpose();
+    const MatD r = NodeRotation<D>(*view.nodes[i]);
+    if constexpr (D == 3) {
+      x[i] = r.transpose();
     } else {
-      const double th = view.nodes[i]->value[2];
-      x[i] = Eigen::Vector2d(std::cos(th), std::sin(th));
+      x[i] = r.col(0);
     }
   }
-  std::vector<LinearTerm> terms;
-  terms.reserve(view.edges.size());
-  for (const auto& edge : view.edges) {
-    LinearTerm t;
+  std::vector<LinearTerm<D, M>> terms(view.edges.size());
+  std::vector<MatD> measured(view.edges.size());
+  for (size_t e = 0; e < view.edges.size(); ++e) {
+    const auto& edge = view.edges[e];
+    LinearTerm<D, M>& t = terms[e];
     t.a = edge.a;
     t.b = edge.b;
+    measured[e] = MeasuredRotation<D>(*edge.factor);
     const Eigen::MatrixXd& info = edge.factor->information;
     double w;
-    if (view.is_3d) {
-      const Eigen::Matrix3d rz =
-          MeasurementPose3(*edge.factor).q.toRotationMatrix();
-      t.A_a = rz.transpose();
-      t.A_b = -Eigen::Matrix3d::Identity();
+    if constexpr (D == 3) {
+      t.A_a = measured[e].transpose();
+      t.A_b = -MatD::Identity();
       w = info.bottomRightCorner<3, 3>().trace() / 3.0;
     } else {
-      t.A_a = -RotationMatrix2D(MeasurementPose2(*edge.factor).theta);
-      t.A_b = Eigen::Matrix2d::Identity();
+      t.A_a = -measured[e];
+      t.A_b = MatD::Identity();
       w = info(2, 2);
     }
-    t.W = Eigen::MatrixXd::Identity(d, d) * std::max(w, 1e-12);
-    t.C = Eigen::MatrixXd::Zero(d, m);
-    terms.push_back(std::move(t));
+    t.W = MatD::Identity() * std::max(w, 1e-12);
+    t.C.setZero();
   }
-  if (!SolveLinear(d, m, terms, anchor, &x, error)) return false;
-  std::vector<Eigen::MatrixXd> rot(n);
+  if (!SolveLinear<D, M>(terms, anchor, &x, error)) return false;
+  std::vector<MatD> rot(n);
   for (int i = 0; i < n; ++i) {
-    if (view.is_3d) {
-      rot[i] = anchor[i] ? NodePose3(*view.nodes[i]).q.toRotationMatrix()
-                         : ProjectToSO3(x[i].transpose());
+    if (anchor[i]) {
+      rot[i] = NodeRotation<D>(*view.nodes[i]);
+    } else if constexpr (D == 3) {
+      rot[i] = ProjectToSO3(x[i].transpose());
     } else {
-      const double th = anchor[i] ? view.nodes[i]->value[2]
-                                  : std::atan2(x[i](1, 0), x[i](0, 0));
-      rot[i] = RotationMatrix2D(th);
+      rot[i] = RotationMatrix2D(std::atan2(x[i](1, 0), x[i](0, 0)));
     }
   }
-  // 2. Translations with rotations fixed: t_b - t_a - R_a t_z = 0, weighted
-  // by the translation block of the information rotated into the world.
-  std::vector<Eigen::MatrixXd> t(n);
+  // 2. Translations with rotations fixed: t_b - t_a - R_a t_z = 0. The error
+  // t_E = (R_a R_z)^T (t_b - t_a - R_a t_z) lives in the frame of X_a Z, so
+  // the translation information is rotated by R_a R_z into the world.
+  std::vector<Eigen::Matrix<double, D, 1>> t(n);
   for (int i = 0; i < n; ++i) {
-    t[i] = Eigen::Map<const Eigen::VectorXd>(view.nodes[i]->value.data(), d);
+    t[i] = Eigen::Map<const VecD>(view.nodes[i]->value.data());
   }
-  terms.clear();
-  for (const auto& edge : view.edges) {
-    LinearTerm term;
+  std::vector<LinearTerm<D, 1>> tterms(view.edges.size());
+  for (size_t e = 0; e < view.edges.size(); ++e) {
+    const auto& edge = view.edges[e];
+    LinearTerm<D, 1>& term = tterms[e];
     term.a = edge.a;
     term.b = edge.b;
-    term.A_a = -Eigen::MatrixXd::Identity(d, d);
-    term.A_b = Eigen::MatrixXd::Identity(d, d);
-    const Eigen::MatrixXd info_t = edge.factor->information.topLeftCorner(d, d);
-    const Eigen::MatrixXd& ra = rot[edge.a];
-    // The error t_E = (R_a R_z)^T (t_b - t_a - R_a t_z) lives in the frame of
-    // X_a Z: rotate the information by R_a R_z, not R_a alone.
-    const Eigen::MatrixXd raz =
-        ra * (view.is_3d
-                  ? Eigen::MatrixXd(
-                        MeasurementPose3(*edge.factor).q.toRotationMatrix())
-                  : Eigen::MatrixXd(RotationMatrix2D(
-                        MeasurementPose2(*edge.factor).theta)));
+    term.A_a = -MatD::Identity();
+    term.A_b = MatD::Identity();
+    const MatD info_t = edge.factor->information.topLeftCorner<D, D>();
+    const MatD& ra = rot[edge.a];
+    const MatD raz = ra * measured[e];
     term.W = raz * info_t * raz.transpose();
-    const Eigen::VectorXd tz = edge.factor->measurement.head(d);
-    term.C = -ra * tz;
-    terms.push_back(std::move(term));
+    term.C = -ra * edge.factor->measurement.head<D>();
   }
-  if (!SolveLinear(d, 1, terms, anchor, &t, error)) return false;
+  if (!SolveLinear<D, 1>(tterms, anchor, &t, error)) return false;
   for (int i = 0; i < n; ++i) {
     if (anchor[i]) continue;
-    if (view.is_3d) {
-      const Eigen::Matrix3d r = rot[i];
-      view.nodes[i]->value =
-          Pose3Value(Pose3(t[i], Eigen::Quaterniond(r).normalized()));
+    if constexpr (D == 3) {
+      const Eigen::Quaterniond q(rot[i]);
+      view.nodes[i]->value = {t[i].x(), t[i].y(), t[i].z(), q.x(),
+                              q.y(),    q.z(),    q.w()};
     } else {
-      view.nodes[i]->value = Pose2Value(
-          Pose2(t[i](0), t[i](1), std::atan2(rot[i](1, 0), rot[i](0, 0))));
+      view.nodes[i]->value = {t[i].x(), t[i].y(),
+                              std::atan2(rot[i](1, 0), rot[i](0, 0))};
     }
   }
   return true;
+}
+
+bool Chordal(const PoseGraphView& view, const std::vector<bool>& anchor,
+             std::string* error) {
+  return view.is_3d ? ChordalImpl<3>(view, anchor, error)
+                    : ChordalImpl<2>(view, anchor, error);
 }
 
 }  // namespace

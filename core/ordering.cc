@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include <suitesparse/cholmod.h>
+#include <cholmod.h>
 
 namespace slam {
 
@@ -82,6 +82,7 @@ bool FillReducingOrdering(int num_nodes,
       default: result->method = "other"; break;
     }
     result->factor_nonzeros = common.lnz;
+    result->factor_flops = common.fl;
   } else {
     *error = "CHOLMOD failed to compute an ordering (status " +
              std::to_string(common.status) + ")";

@@ -46,7 +46,7 @@ def main():
         "SLAM_DATASETS", os.path.join(ROOT, "..", "shared", "datasets")))
     parser.add_argument("--config", default=os.path.join(
         ROOT, "configs", "benchmarks", "posegraph.yaml"))
-    parser.add_argument("--slam", default=os.path.join(ROOT, "build", "slam"))
+    parser.add_argument("--slam", default=os.path.join(ROOT, "build", "apps", "slam"))
     parser.add_argument("--runs", type=int, default=3)
     parser.add_argument("--csv", help="also write the CSV table here")
     parser.add_argument("--md", help="also write the markdown table here")
