@@ -94,6 +94,7 @@ bool BuildSettings(EvalSettings* s, bool* associate_auto, std::string* error) {
   if (!FLAGS_config.empty()) {
     YAML::Node root;
     if (!LoadYamlFile(FLAGS_config, &root, error)) return false;
+    if (!CheckTopLevelSections(root, FLAGS_config, error)) return false;
     if (!root.IsMap() || !root["eval"]) {
       *error = FLAGS_config + ": no 'eval:' section";
       return false;

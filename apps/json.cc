@@ -74,6 +74,18 @@ JsonObject& JsonObject::AddRaw(const std::string& key,
   return *this;
 }
 
+JsonObject& JsonObject::AddObjectEntries(const JsonObject& other) {
+  size_t nested_index = 0;
+  for (const auto& [key, json] : other.entries_) {
+    if (json == "\x01") {
+      Add(key, other.nested_[nested_index++]);
+    } else {
+      AddRaw(key, json);
+    }
+  }
+  return *this;
+}
+
 std::string JsonObject::ToString(int indent) const {
   const std::string pad(indent + 2, ' ');
   std::string out = "{\n";

@@ -23,6 +23,8 @@ class JsonObject {
   JsonObject& Add(const std::string& key, const JsonObject& value);
   JsonObject& Add(const std::string& key, const std::vector<double>& values);
   JsonObject& AddRaw(const std::string& key, const std::string& json);
+  // Appends every entry of `other` to this object.
+  JsonObject& AddObjectEntries(const JsonObject& other);
 
   std::string ToString(int indent = 0) const;
   bool empty() const { return entries_.empty(); }

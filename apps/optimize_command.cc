@@ -8,12 +8,15 @@
 
 #include "apps/commands.h"
 #include "apps/common_flags.h"
+#include "apps/eval_report.h"
 #include "apps/json.h"
 #include "apps/optimize_config.h"
+#include "apps/yaml_config.h"
 #include "core/initialization.h"
 #include "core/marginals.h"
 #include "datasets/atomic_file.h"
 #include "datasets/g2o_io.h"
+#include "datasets/trajectory_io.h"
 
 DEFINE_string(i, "", "input graph file (g2o or TORO .graph)");
 DEFINE_string(o, "", "output file (optimize: graph, .g2o or .graph)");
@@ -155,6 +158,42 @@ bool Initialize(const std::string& init, Graph* graph, std::string* used,
   return true;
 }
 
+// The `eval:` section of --config, if any, over the default settings.
+bool LoadEvalSettings(EvalSettings* settings, std::string* error) {
+  if (FLAGS_config.empty()) return true;
+  YAML::Node root;
+  if (!LoadYamlFile(FLAGS_config, &root, error)) return false;
+  if (!CheckTopLevelSections(root, FLAGS_config, error)) return false;
+  if (!root.IsMap() || !root["eval"]) return true;
+  bool associate_auto = true;
+  return ReadEvalSettingsYaml(root["eval"], FLAGS_config + " (eval)", settings,
+                              &associate_auto, error);
+}
+
+// --gt: evaluates the optimized poses (stamped by node id, in seconds, as
+// `slam simulate` stamps its ground truth) against the reference.
+bool EvaluateAgainstGroundTruth(const Graph& graph, JsonObject* report,
+                                std::string* error) {
+  TrajectoryData gt;
+  if (!ReadTrajectory(FLAGS_gt, {}, &gt, error)) return false;
+  Trajectory estimate;
+  if (!TrajectoryFromGraph(graph, false, &estimate, error)) return false;
+  EvalSettings settings;
+  if (!LoadEvalSettings(&settings, error)) return false;
+  settings.association = ChooseAssociation(gt.has_stamps, true);
+  EvalLabels labels;
+  labels.ref_name = "ground truth";
+  labels.est_name = "optimized";
+  EvalResult result;
+  std::printf("\nevaluation against %s:\n", FLAGS_gt.c_str());
+  if (!EvaluateAndReport(gt.poses, estimate, settings, labels, FLAGS_plot,
+                         std::cout, &result, error)) {
+    return false;
+  }
+  report->Add("evaluation", EvalResultJson(result, settings));
+  return true;
+}
+
 }  // namespace
 
 int RunOptimizeCommand(const std::vector<std::string>& args) {
@@ -278,6 +317,13 @@ int RunOptimizeCommand(const std::vector<std::string>& args) {
               summary.converged ? "converged" : "NOT converged", total_seconds,
               FLAGS_o.empty() ? "" : ", wrote ", FLAGS_o.c_str());
 
+  JsonObject evaluation;
+  if (!FLAGS_gt.empty() &&
+      !EvaluateAgainstGroundTruth(graph, &evaluation, &error)) {
+    std::cerr << "slam optimize: --gt: " << error << "\n";
+    return 1;
+  }
+
   if (!FLAGS_report.empty()) {
     JsonObject report;
     report.Add("input", input)
@@ -303,6 +349,7 @@ int RunOptimizeCommand(const std::vector<std::string>& args) {
         .Add("write_seconds", write_seconds)
         .Add("total_seconds", total_seconds);
     if (!marginals_json.empty()) report.Add("marginals", marginals_json);
+    if (!evaluation.empty()) report.AddObjectEntries(evaluation);
     if (!WriteFileAtomically(FLAGS_report, report.ToString() + "\n",
                              &error)) {
       std::cerr << "slam optimize: " << error << "\n";

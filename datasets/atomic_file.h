@@ -1,16 +1,19 @@
 // Writing output files so that a failure never leaves a partial or corrupted
-// file behind: the content goes to a temporary file beside the target, which
-// is renamed over the target only once everything was written and flushed.
+// file behind: the content goes to a temporary file beside the target
+// (PATH.tmp.XXXXXX), is flushed to disk, and is renamed over the target only
+// once everything was written. The new file keeps the mode of the file it
+// replaces (or 0644).
 #ifndef SLAM_DATASETS_ATOMIC_FILE_H_
 #define SLAM_DATASETS_ATOMIC_FILE_H_
 
 #include <string>
+#include <string_view>
 
 namespace slam {
 
-// Writes `content` to `path` atomically. On failure returns false, sets
-// *error to "PATH: problem" and leaves no file (neither target nor temporary).
-bool WriteFileAtomically(const std::string& path, const std::string& content,
+// Writes `contents` to `path` atomically. On failure returns false, sets
+// *error to "PATH: problem" and leaves PATH untouched and no temporary file.
+bool WriteFileAtomically(const std::string& path, std::string_view contents,
                          std::string* error);
 
 }  // namespace slam

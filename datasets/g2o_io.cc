@@ -9,6 +9,7 @@
 
 #include <Eigen/Core>
 
+#include "datasets/atomic_file.h"
 #include "datasets/text_util.h"
 #include "datasets/toro_io.h"
 
@@ -268,7 +269,7 @@ bool WriteG2o(const std::string& path, const Graph& graph,
     AppendUpperTriangle(factor->information, &out);
     out.push_back('\n');
   }
-  return text::WriteFileAtomically(path, out, error);
+  return WriteFileAtomically(path, out, error);
 }
 
 bool ReadPoseGraph(const std::string& path, const GraphReadOptions& options,

@@ -27,11 +27,6 @@ namespace slam::text {
 bool ReadWholeFile(const std::string& path, std::string* contents,
                    std::string* error);
 
-// Replaces PATH atomically: writes PATH.tmp.XXXXXX (mkstemp), flushes it to
-// disk, renames it over PATH. On failure removes the temporary file, leaves
-// PATH untouched and sets *error to "PATH: reason".
-bool WriteFileAtomically(const std::string& path, std::string_view contents,
-                         std::string* error);
 
 // Splits text into lines ('\n'; a trailing '\r' is whitespace) and each line
 // into tokens separated by spaces, tabs, '\r', '\v' or '\f'. A token starting

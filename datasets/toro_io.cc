@@ -8,6 +8,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "datasets/atomic_file.h"
 #include "datasets/text_util.h"
 
 namespace slam {
@@ -224,7 +225,7 @@ bool WriteToro(const std::string& path, const Graph& graph,
     }
     out.push_back('\n');
   }
-  return text::WriteFileAtomically(path, out, error);
+  return WriteFileAtomically(path, out, error);
 }
 
 }  // namespace slam

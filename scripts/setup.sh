@@ -8,8 +8,10 @@ cd "$(dirname "$0")/.."
 bash scripts/install_deps.sh
 bash scripts/build.sh
 mkdir -p out/demo
-./build/slam simulate -o out/demo
-./build/slam optimize -i out/demo/graph.g2o -o out/demo/optimized.g2o \
+./build/apps/slam simulate -o out/demo
+./build/apps/slam optimize -i out/demo/graph.g2o -o out/demo/optimized.g2o \
+  --gt out/demo/ground_truth.tum --plot out/demo/plots \
   --report out/demo/report.json
 echo
-echo "demo outputs in out/demo/ (graph.g2o, optimized.g2o, report.json)"
+echo "demo outputs in out/demo/: graph.g2o (noisy input), optimized.g2o,"
+echo "report.json (chi2, timings, ATE/RPE) and plots/*.png"
