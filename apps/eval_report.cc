@@ -6,7 +6,7 @@
 #include <filesystem>
 #include <sstream>
 
-#include "apps/plot.h"
+#include "apps/plot_module.h"
 #include "apps/yaml_config.h"
 
 namespace slam {
@@ -37,18 +37,6 @@ std::string AlignmentDescription(const EvalSettings& s, size_t pairs) {
   return "?";
 }
 
-std::string RpeDescription(const RpeOptions& r) {
-  std::string s = "delta " + Fmt("%g", r.delta) + " " +
-                  DeltaUnitName(r.unit) + ", " +
-                  (r.all_pairs ? "all pairs" : "consecutive pairs") +
-                  ", pairs chosen on the " +
-                  (r.pairs_from_reference ? "reference" : "estimate (evo's default)");
-  if (r.all_pairs && r.unit != DeltaUnit::kFrames) {
-    s += ", tolerance " + Fmt("%g", r.rel_delta_tol * 100.0) + " %";
-  }
-  return s;
-}
-
 void PrintStatsRow(std::ostream& out, const char* name,
                    const ErrorStatistics& s) {
   char buf[256];
@@ -57,33 +45,6 @@ void PrintStatsRow(std::ostream& out, const char* name,
                 name, s.rmse, s.mean, s.median, s.std, s.min, s.max, s.sse,
                 s.count);
   out << buf;
-}
-
-// x values of the plots: seconds from the first matched estimate stamp, or
-// the pair index when associated by index.
-std::vector<double> TimeAxis(const EvalResult& r) {
-  std::vector<double> t(r.est_stamps.size());
-  for (size_t i = 0; i < t.size(); ++i) {
-    t[i] = r.association.by_index
-               ? static_cast<double>(i)
-               : NsToSeconds(r.est_stamps[i] - r.est_stamps[0]);
-  }
-  return t;
-}
-
-std::string TimeLabel(const EvalResult& r) {
-  return r.association.by_index ? "pose index"
-                                : "time from the first matched pose [s]";
-}
-
-void AddStatLines(const ErrorStatistics& s, const char* unit,
-                  plot::Axes* axes) {
-  axes->hlines.push_back(
-      {s.rmse, plot::kRed, true, "rmse " + Fmt("%.4g", s.rmse) + " " + unit});
-  axes->hlines.push_back({s.median, plot::kOrange, true,
-                          "median " + Fmt("%.4g", s.median) + " " + unit});
-  axes->hlines.push_back(
-      {s.mean, plot::kGreen, true, "mean " + Fmt("%.4g", s.mean) + " " + unit});
 }
 
 }  // namespace
@@ -138,7 +99,7 @@ void PrintEvalTable(const EvalResult& r, const EvalSettings& s,
   PrintStatsRow(out, "APE rotation [deg]", r.ape_rotation_stats);
   PrintStatsRow(out, "RPE translation [m]", r.rpe_translation_stats);
   PrintStatsRow(out, "RPE rotation [deg]", r.rpe_rotation_stats);
-  out << "RPE: " << RpeDescription(s.rpe) << "\n";
+  out << "RPE: " << DescribeRpeOptions(s.rpe) << "\n";
   std::snprintf(buf, sizeof(buf),
                 "path length: reference %.3f m, estimate (aligned) %.3f m\n",
                 r.ref_path_length, r.est_path_length);
@@ -269,141 +230,18 @@ void AddEvalResultJson(const EvalResult& r, const EvalSettings& s,
   }
 }
 
-bool WriteEvalPlots(const std::string& dir, const EvalResult& r,
-                    const EvalSettings& s, const EvalLabels& labels,
+bool WriteEvalPlots(const std::string& dir, const EvalResult& result,
+                    const EvalSettings& settings, const EvalLabels& labels,
                     std::vector<std::string>* written, std::string* error) {
-  std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  if (ec) {
-    *error = dir + ": cannot create the plot directory (" + ec.message() + ")";
+  using Function = bool (*)(const std::string&, const EvalResult&,
+                            const EvalSettings&, const EvalLabels&,
+                            std::vector<std::string>*, std::string*);
+  void* symbol = nullptr;
+  if (!LoadPlotModuleSymbol("SlamWriteEvalPlots", &symbol, error)) {
     return false;
   }
-  // Seen from above: drop the axis along which the reference moves least.
-  Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300);
-  Eigen::Vector3d hi = Eigen::Vector3d::Constant(-1e300);
-  for (const Pose3& p : r.ref) {
-    lo = lo.cwiseMin(p.t);
-    hi = hi.cwiseMax(p.t);
-  }
-  const Eigen::Vector3d extent = hi - lo;
-  int drop = 2;
-  if (extent.x() < extent[drop]) drop = 0;
-  if (extent.y() < extent[drop]) drop = 1;
-  if (extent.z() <= extent[drop]) drop = 2;
-  const int ax = drop == 0 ? 1 : 0;
-  const int ay = drop == 2 ? 1 : 2;
-  const char* names = "xyz";
-  const std::string plane = std::string(1, names[ax]) + "-" + names[ay];
-  auto xs = [&](const std::vector<Pose3>& v) {
-    std::vector<double> out;
-    for (const Pose3& p : v) out.push_back(p.t[ax]);
-    return out;
-  };
-  auto ys = [&](const std::vector<Pose3>& v) {
-    std::vector<double> out;
-    for (const Pose3& p : v) out.push_back(p.t[ay]);
-    return out;
-  };
-  const std::string xl = std::string(1, names[ax]) + " [m]";
-  const std::string yl = std::string(1, names[ay]) + " [m]";
-  const char* const align_names[] = {
-      "not aligned", "aligned with SE(3) Umeyama", "aligned with Sim(3) Umeyama",
-      "scale-corrected", "aligned at the first pose"};
-  const std::string align_name = align_names[static_cast<int>(s.align)];
-
-  auto save = [&](const std::string& name, const cv::Mat& img) {
-    const std::string path = dir + "/" + name;
-    if (!plot::SavePng(path, img, error)) return false;
-    written->push_back(path);
-    return true;
-  };
-
-  {  // Trajectories from above.
-    plot::Axes a;
-    a.title = "Trajectories seen from above (" + plane + " plane), estimate " +
-              align_name;
-    a.xlabel = xl;
-    a.ylabel = yl;
-    a.equal_aspect = true;
-    a.lines.push_back({xs(r.ref), ys(r.ref), plot::kGray, 2, true,
-                       labels.ref_name + " (reference)"});
-    a.lines.push_back({xs(r.est_aligned), ys(r.est_aligned), plot::kBlue, 2,
-                       false, labels.est_name + " (estimate)"});
-    if (!r.ref.empty()) {
-      a.markers.push_back({r.ref.front().t[ax], r.ref.front().t[ay],
-                           plot::kGreen, false, "start"});
-      a.markers.push_back({r.ref.back().t[ax], r.ref.back().t[ay], plot::kRed,
-                           true, "end"});
-    }
-    if (!save("trajectories.png", plot::RenderFigure({a}, 1400, 1050))) {
-      return false;
-    }
-  }
-  {  // APE along the path.
-    plot::Axes a;
-    const ErrorStatistics& st = r.ape_translation_stats;
-    a.title = "APE translation along the estimate (rmse " +
-              Fmt("%.4g", st.rmse) + " m, max " + Fmt("%.4g", st.max) +
-              " m), " + plane + " plane";
-    a.xlabel = xl;
-    a.ylabel = yl;
-    a.equal_aspect = true;
-    a.lines.push_back({xs(r.ref), ys(r.ref), plot::kGray, 1, true,
-                       labels.ref_name + " (reference)"});
-    plot::ColoredPath path;
-    path.x = xs(r.est_aligned);
-    path.y = ys(r.est_aligned);
-    path.value = r.ape_translation;
-    path.vmin = st.min;
-    path.vmax = st.max;
-    path.colorbar_label = "APE translation [m]";
-    path.label = labels.est_name + " coloured by APE";
-    a.paths.push_back(path);
-    if (!save("ape_map.png", plot::RenderFigure({a}, 1400, 1050))) {
-      return false;
-    }
-  }
-  const std::vector<double> t = TimeAxis(r);
-  {  // APE over time.
-    plot::Axes at, ar;
-    at.title = "APE translation over time (" + align_name + ")";
-    at.xlabel = TimeLabel(r);
-    at.ylabel = "APE translation [m]";
-    at.lines.push_back({t, r.ape_translation, plot::kBlue, 2, false,
-                        "APE translation"});
-    AddStatLines(r.ape_translation_stats, "m", &at);
-    ar.title = "APE rotation over time (angle of P_est^-1 P_ref)";
-    ar.xlabel = TimeLabel(r);
-    ar.ylabel = "APE rotation [deg]";
-    ar.lines.push_back({t, r.ape_rotation_deg, plot::kPurple, 2, false,
-                        "APE rotation"});
-    AddStatLines(r.ape_rotation_stats, "deg", &ar);
-    if (!save("ape.png", plot::RenderFigure({at, ar}, 1400, 620))) {
-      return false;
-    }
-  }
-  {  // RPE over time, at the second pose of each pair.
-    std::vector<double> tj;
-    for (const auto& pr : r.rpe.pairs) tj.push_back(t[pr.second]);
-    plot::Axes at, ar;
-    at.title = "RPE translation (" + RpeDescription(s.rpe) + ")";
-    at.xlabel = TimeLabel(r);
-    at.ylabel = "RPE translation [m]";
-    at.lines.push_back(
-        {tj, r.rpe.translation, plot::kBlue, 2, false, "RPE translation"});
-    AddStatLines(r.rpe_translation_stats, "m", &at);
-    ar.title = "RPE rotation (" + std::to_string(r.rpe.pairs.size()) +
-               " pairs, plotted at the end of each pair)";
-    ar.xlabel = TimeLabel(r);
-    ar.ylabel = "RPE rotation [deg]";
-    ar.lines.push_back(
-        {tj, r.rpe.rotation_deg, plot::kPurple, 2, false, "RPE rotation"});
-    AddStatLines(r.rpe_rotation_stats, "deg", &ar);
-    if (!save("rpe.png", plot::RenderFigure({at, ar}, 1400, 620))) {
-      return false;
-    }
-  }
-  return true;
+  return reinterpret_cast<Function>(symbol)(dir, result, settings, labels,
+                                            written, error);
 }
 
 bool EvaluateAndReport(const Trajectory& ref, const Trajectory& est,

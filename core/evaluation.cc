@@ -722,4 +722,24 @@ bool EvaluateTrajectories(const Trajectory& ref, const Trajectory& est,
   return true;
 }
 
+namespace {
+std::string FormatG(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof(buf), "%g", v);
+  return buf;
+}
+}  // namespace
+
+std::string DescribeRpeOptions(const RpeOptions& r) {
+  std::string s = "delta " + FormatG(r.delta) + " " +
+                  DeltaUnitName(r.unit) + ", " +
+                  (r.all_pairs ? "all pairs" : "consecutive pairs") +
+                  ", pairs chosen on the " +
+                  (r.pairs_from_reference ? "reference" : "estimate (evo's default)");
+  if (r.all_pairs && r.unit != DeltaUnit::kFrames) {
+    s += ", tolerance " + FormatG(r.rel_delta_tol * 100.0) + " %";
+  }
+  return s;
+}
+
 }  // namespace slam

@@ -255,6 +255,9 @@ struct EvalSettings {
   bool kitti = false;  // Also the KITTI devkit metric.
 };
 
+// "delta 1 frames, consecutive pairs, pairs chosen on the estimate ...".
+std::string DescribeRpeOptions(const RpeOptions& r);
+
 struct EvalResult {
   Association association;
   // The matched poses, pair k in each; stamps of both (est stamps as read,

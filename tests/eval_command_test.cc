@@ -12,7 +12,7 @@
 
 #include <opencv2/imgproc.hpp>
 
-#include "apps/plot.h"
+#include "apps/plot/plot.h"
 #include "core/evaluation.h"
 #include "datasets/trajectory_io.h"
 #include "gtest/gtest.h"

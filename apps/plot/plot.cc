@@ -1,4 +1,4 @@
-#include "apps/plot.h"
+#include "apps/plot/plot.h"
 
 #include <algorithm>
 #include <cmath>
