@@ -99,6 +99,46 @@ const Factor* Graph::FindFactor(FactorId id) const {
   return it == factors_.end() ? nullptr : &it->second;
 }
 
+std::vector<Key> Graph::GaugeAnchors() const {
+  std::map<Key, int> index;
+  std::vector<const Node*> by_index;
+  for (const auto& [key, node] : nodes_) {
+    index[key] = static_cast<int>(by_index.size());
+    by_index.push_back(node.get());
+  }
+  std::vector<int> parent(by_index.size());
+  for (size_t i = 0; i < parent.size(); ++i) parent[i] = static_cast<int>(i);
+  auto find = [&](int x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  std::vector<bool> touched(by_index.size(), false);
+  std::vector<bool> has_prior(by_index.size(), false);
+  for (const auto& [id, f] : factors_) {
+    const int first = index[f.keys[0]];
+    for (const Key& k : f.keys) {
+      touched[index[k]] = true;
+      parent[find(index[k])] = find(first);
+    }
+    if (f.keys.size() == 1) has_prior[first] = true;
+  }
+  // A component is anchored if any member is fixed or carries a prior.
+  std::vector<bool> anchored(by_index.size(), false);
+  for (size_t i = 0; i < by_index.size(); ++i) {
+    if (touched[i] && (by_index[i]->fixed || has_prior[i])) {
+      anchored[find(static_cast<int>(i))] = true;
+    }
+  }
+  std::vector<Key> anchors;
+  for (size_t i = 0; i < by_index.size(); ++i) {  // Key order: first wins.
+    const int root = find(static_cast<int>(i));
+    if (!touched[i] || anchored[root]) continue;
+    anchored[root] = true;
+    anchors.push_back(by_index[i]->key);
+  }
+  return anchors;
+}
+
 const ceres::Manifold* Graph::ManifoldFor(NodeKind kind) const {
   switch (kind) {
     case NodeKind::kPose2: return se2_manifold_.get();

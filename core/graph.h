@@ -90,6 +90,12 @@ class Graph {
   size_t NumFactors() const { return factors_.size(); }
   bool HasFixedNode() const;
 
+  // The gauge rule shared by the optimizers and the marginals: every
+  // connected component (through the factors) that holds neither a fixed
+  // node nor a prior factor gets its first node (lowest key) held constant.
+  // Returns those nodes; nodes no factor touches are left out.
+  std::vector<Key> GaugeAnchors() const;
+
   // The manifold used for nodes of this kind (nullptr: Euclidean).
   const ceres::Manifold* ManifoldFor(NodeKind kind) const;
 

@@ -216,6 +216,10 @@ bool SolveLinear(const std::vector<LinearTerm<D, M>>& terms,
   h.setFromTriplets(triplets.begin(), triplets.end());
   Eigen::CholmodDecomposition<Eigen::SparseMatrix<double>, Eigen::Lower>
       solver;
+  // AMD only: CHOLMOD's default also tries METIS when AMD's fill is high,
+  // which costs more than it saves on these one-off solves.
+  solver.cholmod().nmethods = 1;
+  solver.cholmod().method[0].ordering = CHOLMOD_AMD;
   solver.compute(h);
   if (solver.info() != Eigen::Success) {
     *error = "the linear system of the chordal initialization is singular";

@@ -19,13 +19,8 @@ bool ComputeMarginals(Graph* graph, const std::vector<Key>& keys,
   }
   ceres::Problem problem(Graph::ProblemOptions());
   graph->BuildProblem(&problem);
-  bool has_prior = false;
-  for (const auto& [id, f] : graph->factors()) {
-    has_prior = has_prior || f.keys.size() == 1;
-  }
-  if (!graph->HasFixedNode() && !has_prior && graph->NumNodes() > 0) {
-    problem.SetParameterBlockConstant(
-        graph->nodes().begin()->second->value.data());
+  for (const Key& key : graph->GaugeAnchors()) {
+    problem.SetParameterBlockConstant(graph->FindNode(key)->value.data());
   }
   ceres::Covariance::Options options;
   options.algorithm_type = ceres::SPARSE_QR;

@@ -4,7 +4,8 @@
 // core/conventions.h: body frame, translation first, full-angle rotation
 // (SE(2): x, y, theta; SE(3): rho(3), phi(3)). The gauge is removed as the
 // optimizer removes it (fixed nodes, else priors, else the first node held
-// constant), so the covariance of a node is relative to that gauge.
+// constant in each component; Graph::GaugeAnchors), so the covariance of a
+// node is relative to that gauge.
 #ifndef SLAM_CORE_MARGINALS_H_
 #define SLAM_CORE_MARGINALS_H_
 

@@ -140,14 +140,19 @@ OptimizerSummary Optimize(Graph* graph, const OptimizerOptions& options,
 
   ceres::Problem problem(Graph::ProblemOptions());
   graph->BuildProblem(&problem);
-  if (graph->HasFixedNode()) {
-    summary.gauge = "fixed nodes";
-  } else if (HasPrior(*graph)) {
-    summary.gauge = "prior factors";
-  } else if (graph->NumNodes() > 0) {
-    Node* first = graph->nodes().begin()->second.get();
-    problem.SetParameterBlockConstant(first->value.data());
-    summary.gauge = "first node " + first->key.ToString() + " held constant";
+  const std::vector<Key> anchors = graph->GaugeAnchors();
+  for (const Key& key : anchors) {
+    problem.SetParameterBlockConstant(graph->FindNode(key)->value.data());
+  }
+  if (anchors.empty()) {
+    summary.gauge = graph->HasFixedNode() ? "fixed nodes" : "prior factors";
+  } else if (anchors.size() == 1 && !graph->HasFixedNode() &&
+             !HasPrior(*graph)) {
+    summary.gauge = "first node " + anchors[0].ToString() + " held constant";
+  } else {
+    summary.gauge = "fixed nodes/priors, and the first node of " +
+                    std::to_string(anchors.size()) +
+                    " otherwise unanchored component(s) held constant";
   }
 
   ceres::Solver::Options solver_options;

@@ -70,8 +70,9 @@ struct OptimizerSummary {
   std::string full_report;    // Ceres' FullReport (timing breakdown).
 };
 
-// Optimizes the graph in place. The gauge: fixed nodes if any; else, when
-// there is no prior factor, the first node (lowest key) is held constant.
+// Optimizes the graph in place. The gauge (Graph::GaugeAnchors): fixed
+// nodes and priors; every connected component without either gets its first
+// node (lowest key) held constant.
 OptimizerSummary Optimize(Graph* graph, const OptimizerOptions& options,
                           std::ostream* progress);
 

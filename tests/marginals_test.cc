@@ -321,31 +321,39 @@ TEST(MarginalsTest, SinglePriorClosedForms) {
   }
 }
 
-TEST(MarginalsTest, RankDeficientSystemIsReported) {
-  // Two components, no fixed node and no prior: the first node anchors the
-  // first component only; the second floats.
+TEST(MarginalsTest, EachComponentGetsItsOwnGauge) {
+  // Two components, no fixed node and no prior: each component's first node
+  // is held constant (Graph::GaugeAnchors), so both have marginals, and
+  // those of the second equal the marginals of that component alone.
   Rng rng(7);
   Graph graph;
   BuildChain2(&rng, 4, &graph);
+  Graph alone;
   std::string error;
   for (int k = 10; k < 13; ++k) {
     ASSERT_NE(graph.AddNode(Pose2Key(k), {1.0 * k, 0.0, 0.0}), nullptr);
+    ASSERT_NE(alone.AddNode(Pose2Key(k), {1.0 * k, 0.0, 0.0}), nullptr);
   }
   for (int k = 10; k < 12; ++k) {
     Factor f;
     ASSERT_TRUE(MakeBetweenSE2(Pose2Key(k), Pose2Key(k + 1), Pose2(1, 0, 0),
                                Eigen::Matrix3d::Identity(), &f, &error));
+    Factor g = f;
     ASSERT_GE(graph.AddFactor(f), 0);
+    ASSERT_GE(alone.AddFactor(g), 0);
   }
-  std::map<Key, Eigen::MatrixXd> cov;
-  error.clear();
-  EXPECT_FALSE(ComputeMarginals(&graph, {Pose2Key(11)}, &cov, &error));
-  EXPECT_NE(error.find("rank deficient"), std::string::npos) << error;
-  // Even a node of the anchored component cannot be answered: the system as
-  // a whole is singular.
-  error.clear();
-  EXPECT_FALSE(ComputeMarginals(&graph, {Pose2Key(2)}, &cov, &error));
-  EXPECT_FALSE(error.empty());
+  const std::vector<Key> anchors = graph.GaugeAnchors();
+  ASSERT_EQ(anchors.size(), 2u);
+  EXPECT_EQ(anchors[1], Pose2Key(10));
+  std::map<Key, Eigen::MatrixXd> cov, cov_alone;
+  ASSERT_TRUE(ComputeMarginals(&graph, {Pose2Key(11), Pose2Key(2)}, &cov,
+                               &error))
+      << error;
+  ASSERT_TRUE(ComputeMarginals(&alone, {Pose2Key(11)}, &cov_alone, &error))
+      << error;
+  EXPECT_LT((cov[Pose2Key(11)] - cov_alone[Pose2Key(11)]).norm(), 1e-12);
+  EXPECT_GT(cov[Pose2Key(11)].determinant(), 0.0);
+  EXPECT_GT(cov[Pose2Key(2)].determinant(), 0.0);
 }
 
 TEST(MarginalsTest, IsolatedNodeIsRankDeficient) {
