@@ -1,5 +1,6 @@
 // slam optimize: read a pose graph, initialize, optimize, write the result.
 #include <chrono>
+#include <filesystem>
 #include <cstdio>
 #include <iostream>
 #include <sstream>
@@ -172,10 +173,8 @@ bool LoadEvalSettings(EvalSettings* settings, std::string* error) {
 
 // --gt: evaluates the optimized poses (stamped by node id, in seconds, as
 // `slam simulate` stamps its ground truth) against the reference.
-bool EvaluateAgainstGroundTruth(const Graph& graph, JsonObject* report,
-                                std::string* error) {
-  TrajectoryData gt;
-  if (!ReadTrajectory(FLAGS_gt, {}, &gt, error)) return false;
+bool EvaluateAgainstGroundTruth(const Graph& graph, const TrajectoryData& gt,
+                                JsonObject* report, std::string* error) {
   Trajectory estimate;
   if (!TrajectoryFromGraph(graph, false, &estimate, error)) return false;
   EvalSettings settings;
@@ -210,6 +209,11 @@ int RunOptimizeCommand(const std::vector<std::string>& args) {
   }
   std::string input = FLAGS_i;
   if (input.empty() && args.size() == 1) input = args[0];
+  if (args.size() > (FLAGS_i.empty() ? 1u : 0u)) {
+    std::cerr << "slam optimize: unexpected argument '" << args.back()
+              << "' (one input: -i IN or a single positional argument)\n";
+    return 2;
+  }
   if (input.empty()) {
     std::cerr << "slam optimize: no input; usage: slam optimize -i IN [-o OUT]"
                  " [--init ...] [--solver ...] [--robust KIND:WIDTH]"
@@ -221,6 +225,24 @@ int RunOptimizeCommand(const std::vector<std::string>& args) {
   if (!ParseIds(FLAGS_marginals, &marginal_ids, &error)) {
     std::cerr << "slam optimize: " << error << "\n";
     return 2;
+  }
+
+  // Fail before any work on outputs that cannot be written and on a ground
+  // truth that cannot be read: a failed run leaves no output behind.
+  for (const std::string& out : {FLAGS_o, FLAGS_report}) {
+    if (out.empty()) continue;
+    const std::filesystem::path parent =
+        std::filesystem::absolute(out).parent_path();
+    if (!std::filesystem::is_directory(parent)) {
+      std::cerr << "slam optimize: " << out << ": the directory "
+                << parent.string() << " does not exist\n";
+      return 1;
+    }
+  }
+  TrajectoryData gt;
+  if (!FLAGS_gt.empty() && !ReadTrajectory(FLAGS_gt, {}, &gt, &error)) {
+    std::cerr << "slam optimize: --gt: " << error << "\n";
+    return 1;
   }
 
   // Load.
@@ -244,6 +266,18 @@ int RunOptimizeCommand(const std::vector<std::string>& args) {
   std::printf("loaded %s: %zu nodes, %zu factors, chi2 %.10g (%.3f s)\n",
               input.c_str(), graph.NumNodes(), graph.NumFactors(), file_chi2,
               load_seconds);
+
+  // Marginal ids name pose nodes (the file's single id space).
+  std::vector<Key> marginal_keys;
+  for (int64_t id : marginal_ids) {
+    const Key key2 = Pose2Key(id), key3 = Pose3Key(id);
+    if (!graph.HasNode(key2) && !graph.HasNode(key3)) {
+      std::cerr << "slam optimize: --marginals: no node with id " << id
+                << " among the pose nodes of " << input << "\n";
+      return 1;
+    }
+    marginal_keys.push_back(graph.HasNode(key2) ? key2 : key3);
+  }
 
   ApplyKernels(config, &graph);
 
@@ -275,13 +309,8 @@ int RunOptimizeCommand(const std::vector<std::string>& args) {
 
   // Marginals.
   JsonObject marginals_json;
-  if (!marginal_ids.empty()) {
-    std::vector<Key> keys;
-    for (int64_t id : marginal_ids) {
-      Key key = Pose2Key(id);
-      if (!graph.HasNode(key)) key = Pose3Key(id);
-      keys.push_back(key);
-    }
+  if (!marginal_keys.empty()) {
+    const std::vector<Key>& keys = marginal_keys;
     std::map<Key, Eigen::MatrixXd> covariances;
     if (!ComputeMarginals(&graph, keys, &covariances, &error)) {
       std::cerr << "slam optimize: marginals: " << error << "\n";
@@ -304,6 +333,13 @@ int RunOptimizeCommand(const std::vector<std::string>& args) {
     }
   }
 
+  JsonObject evaluation;
+  if (!FLAGS_gt.empty() &&
+      !EvaluateAgainstGroundTruth(graph, gt, &evaluation, &error)) {
+    std::cerr << "slam optimize: --gt: " << error << "\n";
+    return 1;
+  }
+
   // Write.
   const auto write_start = std::chrono::steady_clock::now();
   if (!FLAGS_o.empty() && !WritePoseGraph(FLAGS_o, graph, &error)) {
@@ -316,13 +352,6 @@ int RunOptimizeCommand(const std::vector<std::string>& args) {
               summary.initial_chi2, summary.final_chi2, summary.iterations,
               summary.converged ? "converged" : "NOT converged", total_seconds,
               FLAGS_o.empty() ? "" : ", wrote ", FLAGS_o.c_str());
-
-  JsonObject evaluation;
-  if (!FLAGS_gt.empty() &&
-      !EvaluateAgainstGroundTruth(graph, &evaluation, &error)) {
-    std::cerr << "slam optimize: --gt: " << error << "\n";
-    return 1;
-  }
 
   if (!FLAGS_report.empty()) {
     JsonObject report;

@@ -79,7 +79,11 @@ bool LoadOptimizeConfig(const std::string& path, OptimizeConfig* config,
       return false;
     }
   }
-  return ValidateOptimizeConfig(*config, error);
+  if (!ValidateOptimizeConfig(*config, error)) {
+    *error = path + ": optimize." + *error;
+    return false;
+  }
+  return true;
 }
 
 bool ValidateOptimizeConfig(const OptimizeConfig& config, std::string* error) {
@@ -96,6 +100,23 @@ bool ValidateOptimizeConfig(const OptimizeConfig& config, std::string* error) {
   }
   if (o.num_threads < 1) {
     *error = "num_threads must be >= 1";
+    return false;
+  }
+  if (o.linear_solver != "auto" && o.linear_solver != "sparse_normal_cholesky" &&
+      o.linear_solver != "dense_qr" &&
+      o.linear_solver != "dense_normal_cholesky" &&
+      o.linear_solver != "sparse_schur" && o.linear_solver != "dense_schur" &&
+      o.linear_solver != "iterative_schur" && o.linear_solver != "cgnr") {
+    *error = "linear_solver '" + o.linear_solver +
+             "' is not one of auto, sparse_normal_cholesky, dense_qr, "
+             "dense_normal_cholesky, sparse_schur, dense_schur, "
+             "iterative_schur, cgnr";
+    return false;
+  }
+  if (o.sparse_library != "auto" && o.sparse_library != "suite_sparse" &&
+      o.sparse_library != "eigen_sparse" && o.sparse_library != "cx_sparse") {
+    *error = "sparse_library '" + o.sparse_library +
+             "' is not one of auto, suite_sparse, eigen_sparse, cx_sparse";
     return false;
   }
   if (!(o.initial_trust_region_radius > 0)) {
