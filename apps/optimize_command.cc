@@ -128,7 +128,10 @@ std::vector<std::vector<double>> SaveValues(const Graph& graph) {
 void RestoreValues(const std::vector<std::vector<double>>& values,
                    Graph* graph) {
   size_t k = 0;
-  for (const auto& [key, node] : graph->nodes()) node->value = values[k++];
+  for (const auto& [key, node] : graph->nodes()) {
+    std::copy(values[k].begin(), values[k].end(), node->value.begin());
+    ++k;
+  }
 }
 
 // Runs the configured initialization; returns the name of what was used.

@@ -189,12 +189,28 @@ void Graph::BuildProblem(ceres::Problem* problem, bool use_loss) const {
 }
 
 bool Graph::FactorChi2(const Factor& factor, double* chi2) const {
-  const std::vector<const double*> blocks = ParameterBlocks(factor);
-  Eigen::VectorXd residuals(factor.cost->num_residuals());
-  if (!factor.cost->Evaluate(blocks.data(), residuals.data(), nullptr)) {
-    return false;
+  constexpr int kMaxBlocks = 8;  // No heap allocation for small factors.
+  const double* stack_blocks[kMaxBlocks];
+  std::vector<const double*> heap_blocks;
+  const double** blocks = stack_blocks;
+  if (factor.keys.size() > kMaxBlocks) {
+    heap_blocks.resize(factor.keys.size());
+    blocks = heap_blocks.data();
   }
-  *chi2 = residuals.squaredNorm();
+  for (size_t k = 0; k < factor.keys.size(); ++k) {
+    blocks[k] = FindNode(factor.keys[k])->value.data();
+  }
+  constexpr int kMaxResiduals = 32;  // No heap allocation for small factors.
+  double stack[kMaxResiduals];
+  Eigen::VectorXd heap;
+  const int n = factor.cost->num_residuals();
+  double* residuals = stack;
+  if (n > kMaxResiduals) {
+    heap.resize(n);
+    residuals = heap.data();
+  }
+  if (!factor.cost->Evaluate(blocks, residuals, nullptr)) return false;
+  *chi2 = Eigen::Map<const Eigen::VectorXd>(residuals, n).squaredNorm();
   return true;
 }
 

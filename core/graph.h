@@ -28,7 +28,10 @@ namespace slam {
 
 struct Node {
   Key key;
-  std::vector<double> value;  // AmbientSize(key.kind) doubles; never resized.
+  // AmbientSize(key.kind) doubles. Its buffer is the Ceres parameter block:
+  // never resize it or assign a temporary to it (a move would swap the
+  // buffer); write values in place (std::copy, element access).
+  std::vector<double> value;
   bool fixed = false;         // Held constant by the optimizer.
   TimeNs stamp = 0;           // Only meaningful when has_stamp.
   bool has_stamp = false;

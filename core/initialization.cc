@@ -71,11 +71,13 @@ void Propagate(const PoseGraphView& view, int e, int from) {
   if (view.is_3d) {
     const Pose3 z = MeasurementPose3(*edge.factor);
     const Pose3 x = NodePose3(*src) * (from == edge.a ? z : z.Inverse());
-    dst->value = Pose3Value(x);
+    const std::vector<double> v = Pose3Value(x);
+    std::copy(v.begin(), v.end(), dst->value.begin());
   } else {
     const Pose2 z = MeasurementPose2(*edge.factor);
     const Pose2 x = NodePose2(*src) * (from == edge.a ? z : z.Inverse());
-    dst->value = Pose2Value(x);
+    const std::vector<double> v = Pose2Value(x);
+    std::copy(v.begin(), v.end(), dst->value.begin());
   }
 }
 
@@ -347,11 +349,13 @@ bool ChordalImpl(const PoseGraphView& view, const std::vector<bool>& anchor,
     if (anchor[i]) continue;
     if constexpr (D == 3) {
       const Eigen::Quaterniond q(rot[i]);
-      view.nodes[i]->value = {t[i].x(), t[i].y(), t[i].z(), q.x(),
-                              q.y(),    q.z(),    q.w()};
+      const double v[7] = {t[i].x(), t[i].y(), t[i].z(), q.x(),
+                           q.y(),    q.z(),    q.w()};
+      std::copy(v, v + 7, view.nodes[i]->value.begin());
     } else {
-      view.nodes[i]->value = {t[i].x(), t[i].y(),
-                              std::atan2(rot[i](1, 0), rot[i](0, 0))};
+      const double v[3] = {t[i].x(), t[i].y(),
+                           std::atan2(rot[i](1, 0), rot[i](0, 0))};
+      std::copy(v, v + 3, view.nodes[i]->value.begin());
     }
   }
   return true;

@@ -41,11 +41,6 @@ bool WriteFileAtomically(const std::string& path, std::string_view contents,
     }
     written += static_cast<size_t>(n);
   }
-  if (::fsync(fd) != 0 && errno != EINVAL && errno != EROFS) {
-    const int err = errno;
-    ::close(fd);
-    return fail("cannot flush " + tmp, err);
-  }
   if (::close(fd) != 0) return fail("cannot close " + tmp, errno);
   if (::rename(tmp.c_str(), path.c_str()) != 0) {
     return fail("cannot rename " + tmp, errno);
