@@ -197,30 +197,45 @@ OptimizerSummary Optimize(Graph* graph, const OptimizerOptions& options,
   }
   const bool sparse_cholesky =
       solver_options.linear_solver_type == ceres::SPARSE_NORMAL_CHOLESKY;
-  summary.ordering = "ceres";
-  double flops_per_entry = 0.0;
-  if (sparse_cholesky && graph->NumNodes() > 1 &&
-      (options.ordering != "ceres" || options.sparse_library == "auto")) {
-    std::string ordering_error;
-    ceres::Solver::Options analysis_only;
-    ceres::Solver::Options* target =
-        options.ordering != "ceres" ? &solver_options : &analysis_only;
-    if (!SetOrdering(*graph,
-                     options.ordering == "ceres" ? "auto" : options.ordering,
-                     target, &summary.ordering, &flops_per_entry,
-                     &ordering_error)) {
-      summary.termination = ordering_error;
-      return summary;
-    }
-    if (options.ordering == "ceres") summary.ordering = "ceres";
-  }
-  // Threshold: above ~150 flops per factor entry the supernodal kernels of
-  // CHOLMOD win (measured on the benchmark graphs, see scripts/).
+  // 1. A cheap AMD analysis of the node graph estimates the factor's
+  //    density, which picks the sparse library ("auto").
+  // 2. Dense factors (CHOLMOD supernodal) get the least-fill ordering of
+  //    AMD, METIS and NESDIS; sparse ones keep Ceres' own AMD ordering.
+  // Above ~150 flops per factor entry CHOLMOD's supernodal kernels win
+  // (measured on the benchmark graphs: tori and spheres above, 2D graphs
+  // and parking-garage below).
   constexpr double kSupernodalFlopsPerEntry = 150.0;
-  summary.sparse_library =
-      options.sparse_library != "auto" ? options.sparse_library
-      : flops_per_entry > kSupernodalFlopsPerEntry ? "suite_sparse"
-                                                    : "eigen_sparse";
+  summary.ordering = "ceres";
+  summary.sparse_library = options.sparse_library;
+  if (sparse_cholesky && graph->NumNodes() > 1) {
+    std::string ordering_error;
+    double flops_per_entry = 0.0;
+    std::string method;
+    ceres::Solver::Options analysis_only;
+    if (options.sparse_library == "auto") {
+      if (!SetOrdering(*graph, "amd", &analysis_only, &method,
+                       &flops_per_entry, &ordering_error)) {
+        summary.termination = ordering_error;
+        return summary;
+      }
+      summary.sparse_library = flops_per_entry > kSupernodalFlopsPerEntry
+                                   ? "suite_sparse"
+                                   : "eigen_sparse";
+    }
+    const bool dense = summary.sparse_library == "suite_sparse";
+    const std::string wanted =
+        options.ordering == "auto" ? (dense ? "auto" : "ceres")
+                                   : options.ordering;
+    if (wanted != "ceres") {
+      if (!SetOrdering(*graph, wanted, &solver_options, &summary.ordering,
+                       &flops_per_entry, &ordering_error)) {
+        summary.termination = ordering_error;
+        return summary;
+      }
+    }
+  } else if (summary.sparse_library == "auto") {
+    summary.sparse_library = "suite_sparse";
+  }
   solver_options.sparse_linear_algebra_library_type =
       summary.sparse_library == "eigen_sparse" ? ceres::EIGEN_SPARSE
       : summary.sparse_library == "cx_sparse"  ? ceres::CX_SPARSE

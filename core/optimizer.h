@@ -31,9 +31,10 @@ struct OptimizerOptions {
   // "dense_qr", "dense_normal_cholesky", "sparse_schur", "dense_schur",
   // "iterative_schur", "cgnr".
   std::string linear_solver = "auto";
-  // Elimination order for the sparse Cholesky solvers: "auto" (CHOLMOD picks
-  // the least fill of AMD, METIS and NESDIS on the node graph; see
-  // core/ordering.h), "amd", "metis", "nesdis", or "ceres" (Ceres' own).
+  // Elimination order for the sparse Cholesky solvers: "auto" (for dense
+  // factors CHOLMOD picks the least fill of AMD, METIS and NESDIS on the
+  // node graph, see core/ordering.h; sparse ones keep Ceres' own AMD),
+  // "amd", "metis", "nesdis", or "ceres" (Ceres' own).
   std::string ordering = "auto";
   // Sparse linear algebra behind the sparse solvers: "auto", "suite_sparse"
   // (CHOLMOD, supernodal on the system BLAS), "eigen_sparse" or "cx_sparse".
