@@ -7,11 +7,10 @@ the time target.
 
 Usage: scripts/benchmark_posegraph.py [--datasets DIR] [--runs 3]
        [--slam build/slam] [--csv out.csv] [--md out.md] [--only NAME...]
-Runs with Debian's python3 (python3-yaml)."""
+Runs with Debian's python3 (python3-yaml). Table output and the lookup of
+the slam binary are shared with scripts/run_benchmarks.py."""
 
 import argparse
-import csv
-import io
 import json
 import os
 import statistics
@@ -22,7 +21,17 @@ import time
 
 import yaml
 
+import run_benchmarks
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+COLUMNS = [
+    ("dataset", "dataset"), ("nodes", "nodes"), ("edges", "edges"),
+    ("init", "init"), ("initial_chi2", "initial chi2"),
+    ("final_chi2", "final chi2"), ("optimum", "optimum"),
+    ("rel_gap", "rel. gap"), ("iterations", "iterations"),
+    ("median_s", "median s"), ("target_s", "target s"), ("ok", "ok"),
+]
 
 
 def run_once(slam, path, out_dir, extra):
@@ -46,7 +55,8 @@ def main():
         "SLAM_DATASETS", os.path.join(ROOT, "..", "shared", "datasets")))
     parser.add_argument("--config", default=os.path.join(
         ROOT, "configs", "benchmarks", "posegraph.yaml"))
-    parser.add_argument("--slam", default=os.path.join(ROOT, "build", "apps", "slam"))
+    parser.add_argument("--slam", default=None,
+                        help="the slam binary (default: build/apps/slam)")
     parser.add_argument("--runs", type=int, default=3)
     parser.add_argument("--csv", help="also write the CSV table here")
     parser.add_argument("--md", help="also write the markdown table here")
@@ -54,6 +64,7 @@ def main():
     parser.add_argument("--extra", default="",
                         help="extra flags for slam optimize, e.g. '--init chordal'")
     args = parser.parse_args()
+    args.slam = run_benchmarks.find_slam(args.slam)
 
     with open(args.config) as f:
         entries = yaml.safe_load(f)["datasets"]
@@ -106,24 +117,15 @@ def main():
     if not rows:
         print("no dataset found", file=sys.stderr)
         return 1
-    cols = list(rows[0].keys())
-    md = io.StringIO()
-    md.write("| " + " | ".join(cols) + " |\n")
-    md.write("|" + "|".join("---" for _ in cols) + "|\n")
-    for r in rows:
-        md.write("| " + " | ".join(str(r[c]) for c in cols) + " |\n")
-    out_csv = io.StringIO()
-    writer = csv.DictWriter(out_csv, fieldnames=cols)
-    writer.writeheader()
-    writer.writerows(rows)
-    print(md.getvalue())
-    print(out_csv.getvalue())
+    md_text, csv_text = run_benchmarks.tables(rows, COLUMNS)
+    print(md_text)
+    print(csv_text)
     if args.md:
         with open(args.md, "w") as f:
-            f.write(md.getvalue())
+            f.write(md_text)
     if args.csv:
         with open(args.csv, "w") as f:
-            f.write(out_csv.getvalue())
+            f.write(csv_text)
     return 1 if failures else 0
 
 

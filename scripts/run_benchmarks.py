@@ -186,16 +186,18 @@ def run_entry(entry, args, slam):
     return row
 
 
-def tables(rows):
-    header = [title for _, title in COLUMNS]
+def tables(rows, columns=None):
+    """Markdown and CSV text of `rows` (dicts) for (key, title) `columns`."""
+    columns = COLUMNS if columns is None else columns
+    header = [title for _, title in columns]
     lines = ["| " + " | ".join(header) + " |",
              "|" + "|".join("---" for _ in header) + "|"]
     buf = io.StringIO()
     writer = csv.writer(buf, lineterminator="\n")
-    writer.writerow([key for key, _ in COLUMNS])
+    writer.writerow([key for key, _ in columns])
     for row in rows:
         cells = []
-        for key, _ in COLUMNS:
+        for key, _ in columns:
             value = row.get(key)
             digits = 3 if key in ("run_s", "eval_s") else (
                 4 if key in ("kitti_t", "kitti_r") else 6)
@@ -203,7 +205,7 @@ def tables(rows):
         lines.append("| " + " | ".join(c.replace("|", "/") for c in cells) + " |")
         writer.writerow([("%.9g" % row[k]) if isinstance(row.get(k), float)
                          else ("" if row.get(k) is None else row[k])
-                         for k, _ in COLUMNS])
+                         for k, _ in columns])
     return "\n".join(lines) + "\n", buf.getvalue()
 
 
