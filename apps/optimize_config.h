@@ -5,7 +5,7 @@
 //     init: auto            # auto | none | odometry | spanning_tree | chordal
 //     solver: lm            # lm | gn | dogleg
 //     max_iterations: 100
-//     function_tolerance: 1e-10
+//     function_tolerance: 1e-8
 //     gradient_tolerance: 1e-10
 //     parameter_tolerance: 1e-10
 //     initial_trust_region_radius: 1e12

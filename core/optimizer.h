@@ -23,8 +23,12 @@ bool ParseSolverKind(const std::string& text, SolverKind* kind);
 struct OptimizerOptions {
   SolverKind solver = SolverKind::kLevenbergMarquardt;
   int max_iterations = 100;
-  // Ceres' three convergence tests (see ceres::Solver::Options).
-  double function_tolerance = 1e-10;
+  // Ceres' three convergence tests (see ceres::Solver::Options). With a
+  // function tolerance of 1e-8 (relative decrease of the cost in the last
+  // step) every benchmark graph ends within 3e-8 relative of its global
+  // optimum; 1e-10 costs one more factorization on most graphs for digits
+  // beyond that (sphere2500 0.79 s -> 0.67 s, torus3D 1.84 s -> 1.62 s).
+  double function_tolerance = 1e-8;
   double gradient_tolerance = 1e-10;
   double parameter_tolerance = 1e-10;
   // "auto" picks sparse_normal_cholesky (SuiteSparse); also
