@@ -21,12 +21,7 @@
 namespace slam {
 namespace {
 
-std::string ReadText(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using ::slam::testing::ReadText;
 
 // A minimal PNG reader for what plot::EncodePng writes (8-bit RGB, filter
 // none): checks signature and CRCs, inflates, returns a BGR image (empty on

@@ -29,6 +29,7 @@
 #include "factors/prior_se2.h"
 #include "factors/prior_se3.h"
 #include "gtest/gtest.h"
+#include "tests/test_random.h"
 
 namespace slam {
 namespace {
@@ -36,47 +37,7 @@ namespace {
 using Matrix6d = Eigen::Matrix<double, 6, 6>;
 using Vector6d = Eigen::Matrix<double, 6, 1>;
 
-class Rng {
- public:
-  explicit Rng(unsigned seed) : gen_(seed) {}
-  double Uniform(double lo, double hi) {
-    return std::uniform_real_distribution<double>(lo, hi)(gen_);
-  }
-  double Normal() { return std::normal_distribution<double>(0.0, 1.0)(gen_); }
-  Eigen::Vector3d UnitVector() {
-    return Eigen::Vector3d(Normal(), Normal(), Normal()).normalized();
-  }
-  Eigen::Quaterniond Quaternion() {
-    Eigen::Vector4d v(Normal(), Normal(), Normal(), Normal());
-    v.normalize();
-    return Eigen::Quaterniond(v[3], v[0], v[1], v[2]);
-  }
-  Pose2 RandomPose2(double extent = 20.0) {
-    return Pose2(Uniform(-extent, extent), Uniform(-extent, extent),
-                 Uniform(-M_PI, M_PI));
-  }
-  Pose3 RandomPose3(double extent = 20.0) {
-    return Pose3(Eigen::Vector3d(Uniform(-extent, extent),
-                                 Uniform(-extent, extent),
-                                 Uniform(-extent, extent)),
-                 Quaternion());
-  }
-  // Random symmetric positive-definite n x n matrix with off-diagonal terms
-  // and a spread of scales (like real information matrices).
-  Eigen::MatrixXd Information(int n) {
-    Eigen::MatrixXd a(n, n);
-    for (int r = 0; r < n; ++r) {
-      for (int c = 0; c < n; ++c) a(r, c) = Normal();
-    }
-    Eigen::MatrixXd info = a * a.transpose() + 0.5 * Eigen::MatrixXd::Identity(n, n);
-    Eigen::VectorXd scale(n);
-    for (int i = 0; i < n; ++i) scale[i] = std::pow(10.0, Uniform(-1.0, 2.0));
-    return scale.asDiagonal() * info * scale.asDiagonal();
-  }
-
- private:
-  std::mt19937 gen_;
-};
+using Rng = ::slam::testing::TestRng;
 
 // ---------------------------------------------------------------------------
 // Independent reference: homogeneous matrices.
@@ -184,7 +145,7 @@ TEST(PoseFactorBuildersTest, StoreTypeKeysMeasurementAndInformation) {
   std::string error;
   {
     const Pose2 z = rng.RandomPose2();
-    const Eigen::Matrix3d info = rng.Information(3);
+    const Eigen::Matrix3d info = rng.ScaledInformation(3);
     Factor f;
     ASSERT_TRUE(MakeBetweenSE2(Pose2Key(3), Pose2Key(7), z, info, &f, &error))
         << error;
@@ -202,14 +163,14 @@ TEST(PoseFactorBuildersTest, StoreTypeKeysMeasurementAndInformation) {
   {
     const Pose2 z = rng.RandomPose2();
     Factor f;
-    ASSERT_TRUE(MakePriorSE2(Pose2Key(2), z, rng.Information(3), &f, &error));
+    ASSERT_TRUE(MakePriorSE2(Pose2Key(2), z, rng.ScaledInformation(3), &f, &error));
     EXPECT_EQ(f.type, FactorType::kPriorSE2);
     EXPECT_EQ(f.keys, std::vector<Key>{Pose2Key(2)});
     EXPECT_EQ(f.cost->parameter_block_sizes(), (std::vector<int32_t>{3}));
   }
   {
     const Pose3 z = rng.RandomPose3();
-    const Matrix6d info = rng.Information(6);
+    const Matrix6d info = rng.ScaledInformation(6);
     Factor f;
     ASSERT_TRUE(MakeBetweenSE3(Pose3Key(0), Pose3Key(1), z, info, &f, &error));
     EXPECT_EQ(f.type, FactorType::kBetweenSE3);
@@ -225,7 +186,7 @@ TEST(PoseFactorBuildersTest, StoreTypeKeysMeasurementAndInformation) {
   }
   {
     Factor f;
-    ASSERT_TRUE(MakePriorSE3(Pose3Key(4), rng.RandomPose3(), rng.Information(6),
+    ASSERT_TRUE(MakePriorSE3(Pose3Key(4), rng.RandomPose3(), rng.ScaledInformation(6),
                              &f, &error));
     EXPECT_EQ(f.type, FactorType::kPriorSE3);
     EXPECT_EQ(f.cost->parameter_block_sizes(), (std::vector<int32_t>{7}));
@@ -273,7 +234,7 @@ TEST(BetweenSE2FactorTest, ResidualIsWhitenedG2oError) {
     // Half the measurements far from the relative pose, half close to it.
     const Pose2 z = trial % 2 == 0 ? rng.RandomPose2(5.0)
                                    : Perturb(xi.Inverse() * xj, &rng, 0.1);
-    const Eigen::Matrix3d info = rng.Information(3);
+    const Eigen::Matrix3d info = rng.ScaledInformation(3);
     Factor f;
     std::string error;
     ASSERT_TRUE(MakeBetweenSE2(Pose2Key(0), Pose2Key(1), z, info, &f, &error));
@@ -324,7 +285,7 @@ TEST(BetweenSE2FactorTest, ZeroAtTheMeasurement) {
     const Pose2 xj = xi * z;
     Factor f;
     std::string error;
-    ASSERT_TRUE(MakeBetweenSE2(Pose2Key(0), Pose2Key(1), z, rng.Information(3),
+    ASSERT_TRUE(MakeBetweenSE2(Pose2Key(0), Pose2Key(1), z, rng.ScaledInformation(3),
                                &f, &error));
     const std::vector<double> vi = Pose2Value(xi), vj = Pose2Value(xj);
     EXPECT_LT(Evaluate(*f.cost, {vi.data(), vj.data()}).norm(), 1e-10);
@@ -346,7 +307,7 @@ TEST(BetweenSE2FactorTest, JacobiansMatchNumericInTangentSpace) {
     if (std::abs(G2oErrorBetweenSE2(xi, xj, z)[2]) > M_PI - 0.1) continue;
     Factor f;
     std::string error;
-    ASSERT_TRUE(MakeBetweenSE2(Pose2Key(0), Pose2Key(1), z, rng.Information(3),
+    ASSERT_TRUE(MakeBetweenSE2(Pose2Key(0), Pose2Key(1), z, rng.ScaledInformation(3),
                                &f, &error));
     ceres::GradientChecker checker(f.cost.get(), &manifolds, numeric_options);
     ceres::GradientChecker::ProbeResults results;
@@ -367,7 +328,7 @@ TEST(PriorSE2FactorTest, ResidualIsWhitenedG2oError) {
   for (int trial = 0; trial < 200; ++trial) {
     const Pose2 x = rng.RandomPose2();
     const Pose2 z = trial % 2 == 0 ? rng.RandomPose2() : Perturb(x, &rng, 0.1);
-    const Eigen::Matrix3d info = rng.Information(3);
+    const Eigen::Matrix3d info = rng.ScaledInformation(3);
     Factor f;
     std::string error;
     ASSERT_TRUE(MakePriorSE2(Pose2Key(0), z, info, &f, &error));
@@ -392,7 +353,7 @@ TEST(PriorSE2FactorTest, ZeroAtTheMeasurementAndJacobians) {
     const Pose2 x = trial % 2 == 0 ? rng.RandomPose2() : Perturb(z, &rng, 0.3);
     Factor f;
     std::string error;
-    ASSERT_TRUE(MakePriorSE2(Pose2Key(0), z, rng.Information(3), &f, &error));
+    ASSERT_TRUE(MakePriorSE2(Pose2Key(0), z, rng.ScaledInformation(3), &f, &error));
     const std::vector<double> vz = Pose2Value(z);
     EXPECT_LT(Evaluate(*f.cost, {vz.data()}).norm(), 1e-12);
     if (std::abs(G2oErrorPriorSE2(x, z)[2]) > M_PI - 0.1) continue;
@@ -415,7 +376,7 @@ TEST(BetweenSE3FactorTest, ResidualIsWhitenedG2oError) {
     const Pose3 xj = rng.RandomPose3();
     const Pose3 z = trial % 2 == 0 ? rng.RandomPose3(5.0)
                                    : Perturb(xi.Inverse() * xj, &rng, 0.2);
-    const Matrix6d info = rng.Information(6);
+    const Matrix6d info = rng.ScaledInformation(6);
     Factor f;
     std::string error;
     ASSERT_TRUE(MakeBetweenSE3(Pose3Key(0), Pose3Key(1), z, info, &f, &error));
@@ -465,7 +426,7 @@ TEST(BetweenSE3FactorTest, ZeroAtTheMeasurement) {
     const Pose3 xj = xi * z;
     Factor f;
     std::string error;
-    ASSERT_TRUE(MakeBetweenSE3(Pose3Key(0), Pose3Key(1), z, rng.Information(6),
+    ASSERT_TRUE(MakeBetweenSE3(Pose3Key(0), Pose3Key(1), z, rng.ScaledInformation(6),
                                &f, &error));
     const std::vector<double> vi = Pose3Value(xi), vj = Pose3Value(xj);
     EXPECT_LT(Evaluate(*f.cost, {vi.data(), vj.data()}).norm(), 1e-9);
@@ -479,7 +440,7 @@ TEST(BetweenSE3FactorTest, QuaternionSignInvariance) {
     const Pose3 xj = rng.RandomPose3();
     const Pose3 z = trial % 2 == 0 ? rng.RandomPose3(5.0)
                                    : Perturb(xi.Inverse() * xj, &rng, 0.2);
-    const Matrix6d info = rng.Information(6);
+    const Matrix6d info = rng.ScaledInformation(6);
     Factor f, f_neg;
     std::string error;
     ASSERT_TRUE(MakeBetweenSE3(Pose3Key(0), Pose3Key(1), z, info, &f, &error));
@@ -518,7 +479,7 @@ TEST(BetweenSE3FactorTest, JacobiansMatchNumericInTangentSpace) {
     if (!SafeForNumericDiff(G2oErrorBetweenSE3(xi, xj, z))) continue;
     Factor f;
     std::string error;
-    ASSERT_TRUE(MakeBetweenSE3(Pose3Key(0), Pose3Key(1), z, rng.Information(6),
+    ASSERT_TRUE(MakeBetweenSE3(Pose3Key(0), Pose3Key(1), z, rng.ScaledInformation(6),
                                &f, &error));
     ceres::GradientChecker checker(f.cost.get(), &manifolds, numeric_options);
     ceres::GradientChecker::ProbeResults results;
@@ -604,7 +565,7 @@ TEST(BetweenSE3FactorTest, JacobiansAtTheMeasurement) {
     const Pose3 xj = xi * z;
     Factor f;
     std::string error;
-    ASSERT_TRUE(MakeBetweenSE3(Pose3Key(0), Pose3Key(1), z, rng.Information(6),
+    ASSERT_TRUE(MakeBetweenSE3(Pose3Key(0), Pose3Key(1), z, rng.ScaledInformation(6),
                                &f, &error));
     const std::vector<std::vector<double>> values = {Pose3Value(xi),
                                                      Pose3Value(xj)};
@@ -629,7 +590,7 @@ TEST(BetweenSE2FactorTest, JacobiansAtTheMeasurement) {
     const Pose2 xj = xi * z;
     Factor f;
     std::string error;
-    ASSERT_TRUE(MakeBetweenSE2(Pose2Key(0), Pose2Key(1), z, rng.Information(3),
+    ASSERT_TRUE(MakeBetweenSE2(Pose2Key(0), Pose2Key(1), z, rng.ScaledInformation(3),
                                &f, &error));
     const std::vector<std::vector<double>> values = {Pose2Value(xi),
                                                      Pose2Value(xj)};
@@ -652,7 +613,7 @@ TEST(PriorSE3FactorTest, ResidualIsWhitenedG2oError) {
   for (int trial = 0; trial < 200; ++trial) {
     const Pose3 x = rng.RandomPose3();
     const Pose3 z = trial % 2 == 0 ? rng.RandomPose3() : Perturb(x, &rng, 0.2);
-    const Matrix6d info = rng.Information(6);
+    const Matrix6d info = rng.ScaledInformation(6);
     Factor f;
     std::string error;
     ASSERT_TRUE(MakePriorSE3(Pose3Key(0), z, info, &f, &error));
@@ -675,7 +636,7 @@ TEST(PriorSE3FactorTest, ZeroAtMeasurementSignInvarianceAndJacobians) {
   for (int trial = 0; trial < 100; ++trial) {
     const Pose3 z = rng.RandomPose3();
     const Pose3 x = trial % 2 == 0 ? rng.RandomPose3() : Perturb(z, &rng, 0.3);
-    const Matrix6d info = rng.Information(6);
+    const Matrix6d info = rng.ScaledInformation(6);
     Factor f, f_neg;
     std::string error;
     ASSERT_TRUE(MakePriorSE3(Pose3Key(0), z, info, &f, &error));
@@ -718,7 +679,7 @@ TEST(GraphFactorTest, Chi2SumsFactorErrorsAndRejectsBadFactors) {
   std::string error;
   for (int i = 0; i + 1 < 4; ++i) {
     const Pose3 z = Perturb(poses[i].Inverse() * poses[i + 1], &rng, 0.1);
-    const Matrix6d info = rng.Information(6);
+    const Matrix6d info = rng.ScaledInformation(6);
     Factor f;
     ASSERT_TRUE(MakeBetweenSE3(Pose3Key(i), Pose3Key(i + 1), z, info, &f, &error));
     ASSERT_GE(graph.AddFactor(f), 0);
@@ -727,7 +688,7 @@ TEST(GraphFactorTest, Chi2SumsFactorErrorsAndRejectsBadFactors) {
   }
   {
     const Pose3 z = Perturb(poses[0], &rng, 0.1);
-    const Matrix6d info = rng.Information(6);
+    const Matrix6d info = rng.ScaledInformation(6);
     Factor f;
     ASSERT_TRUE(MakePriorSE3(Pose3Key(0), z, info, &f, &error));
     ASSERT_GE(graph.AddFactor(f), 0);

@@ -31,18 +31,12 @@ namespace {
 using ::slam::testing::DatasetPath;
 using ::slam::testing::FixturePath;
 using ::slam::testing::TempDir;
+using ::slam::testing::ReadText;
 
 std::string WriteText(const std::string& path, const std::string& text) {
   std::ofstream out(path, std::ios::binary);
   out << text;
   return path;
-}
-
-std::string ReadText(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
 }
 
 uint64_t Bits(double v) {

@@ -18,22 +18,9 @@ namespace {
 
 using ::slam::testing::RunSlam;
 using ::slam::testing::TempDir;
-
-std::string ReadText(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-void WriteText(const std::string& path, const std::string& text) {
-  std::ofstream out(path);
-  out << text;
-}
-
-bool Contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
+using ::slam::testing::ReadText;
+using ::slam::testing::WriteText;
+using ::slam::testing::Contains;
 
 struct SlamRun {
   int code = -1;

@@ -24,35 +24,14 @@
 #include "core/optimizer.h"
 #include "factors/pose_factors.h"
 #include "gtest/gtest.h"
+#include "tests/test_random.h"
 
 namespace slam {
 namespace {
 
 using Matrix6d = Eigen::Matrix<double, 6, 6>;
 
-class Rng {
- public:
-  explicit Rng(unsigned seed) : gen_(seed) {}
-  double Uniform(double lo, double hi) {
-    return std::uniform_real_distribution<double>(lo, hi)(gen_);
-  }
-  double Normal() { return std::normal_distribution<double>(0.0, 1.0)(gen_); }
-  Eigen::Quaterniond Quaternion() {
-    Eigen::Vector4d v(Normal(), Normal(), Normal(), Normal());
-    v.normalize();
-    return Eigen::Quaterniond(v[3], v[0], v[1], v[2]);
-  }
-  Eigen::MatrixXd Information(int n) {
-    Eigen::MatrixXd a(n, n);
-    for (int r = 0; r < n; ++r) {
-      for (int c = 0; c < n; ++c) a(r, c) = Normal();
-    }
-    return a * a.transpose() + Eigen::MatrixXd::Identity(n, n);
-  }
-
- private:
-  std::mt19937 gen_;
-};
+using Rng = ::slam::testing::TestRng;
 
 const std::vector<InitMethod>& AllMethods() {
   static const std::vector<InitMethod> methods = {
@@ -147,7 +126,7 @@ void AddGraph2(const std::map<int64_t, Pose2>& gt, const EdgeList& edges,
                              1 / (sigma_r * sigma_r))
                  .asDiagonal();
     } else {
-      info = rng->Information(3);
+      info = rng->SpdMatrix(3);
     }
     Factor f;
     std::string error;
@@ -176,7 +155,7 @@ void AddGraph3(const std::map<int64_t, Pose3>& gt, const EdgeList& edges,
                  .finished()
                  .asDiagonal();
     } else {
-      info = rng->Information(6);
+      info = rng->SpdMatrix(6);
     }
     Factor f;
     std::string error;

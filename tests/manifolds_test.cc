@@ -17,6 +17,7 @@
 #include "core/manifolds.h"
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
+#include "tests/test_random.h"
 
 namespace slam {
 namespace {
@@ -35,26 +36,7 @@ using ceres::XPlusZeroIsXAt;
 
 constexpr double kTolerance = 1e-9;
 
-class Rng {
- public:
-  explicit Rng(unsigned seed) : gen_(seed) {}
-  double Uniform(double lo, double hi) {
-    return std::uniform_real_distribution<double>(lo, hi)(gen_);
-  }
-  double Normal() { return std::normal_distribution<double>(0.0, 1.0)(gen_); }
-  Eigen::Vector3d UnitVector() {
-    Eigen::Vector3d v(Normal(), Normal(), Normal());
-    return v.normalized();
-  }
-  Eigen::Quaterniond Quaternion() {
-    Eigen::Vector4d v(Normal(), Normal(), Normal(), Normal());
-    v.normalize();
-    return Eigen::Quaterniond(v[3], v[0], v[1], v[2]);
-  }
-
- private:
-  std::mt19937 gen_;
-};
+using Rng = ::slam::testing::TestRng;
 
 Vector SE2Value(double x, double y, double theta) {
   Vector v(3);

@@ -19,33 +19,14 @@
 #include "core/marginals.h"
 #include "factors/pose_factors.h"
 #include "gtest/gtest.h"
+#include "tests/test_random.h"
 
 namespace slam {
 namespace {
 
 using Matrix6d = Eigen::Matrix<double, 6, 6>;
 
-class Rng {
- public:
-  explicit Rng(unsigned seed) : gen_(seed) {}
-  double Normal() { return std::normal_distribution<double>(0.0, 1.0)(gen_); }
-  Eigen::Vector3d Normal3() { return Eigen::Vector3d(Normal(), Normal(), Normal()); }
-  Eigen::Quaterniond Quaternion() {
-    Eigen::Vector4d v(Normal(), Normal(), Normal(), Normal());
-    v.normalize();
-    return Eigen::Quaterniond(v[3], v[0], v[1], v[2]);
-  }
-  Eigen::MatrixXd Information(int n, double scale) {
-    Eigen::MatrixXd a(n, n);
-    for (int r = 0; r < n; ++r) {
-      for (int c = 0; c < n; ++c) a(r, c) = Normal();
-    }
-    return scale * (a * a.transpose() + Eigen::MatrixXd::Identity(n, n));
-  }
-
- private:
-  std::mt19937 gen_;
-};
+using Rng = ::slam::testing::TestRng;
 
 // The documented tangent, written out here (not through SE2/SE3Manifold):
 //   SE(2): (t + R(theta) d_t, theta + d_theta)
@@ -135,7 +116,7 @@ void BuildChain2(Rng* rng, int n, Graph* graph) {
   auto add = [&](int i, int j) {
     Factor f;
     const Pose2 z = gt[i].Inverse() * gt[j];
-    ASSERT_TRUE(MakeBetweenSE2(Pose2Key(i), Pose2Key(j), z, rng->Information(3, 20.0),
+    ASSERT_TRUE(MakeBetweenSE2(Pose2Key(i), Pose2Key(j), z, rng->SpdMatrix(3, 20.0),
                                &f, &error));
     ASSERT_GE(graph->AddFactor(std::move(f)), 0);
   };
@@ -155,7 +136,7 @@ void BuildChain3(Rng* rng, int n, Graph* graph) {
   auto add = [&](int i, int j) {
     Factor f;
     const Pose3 z = gt[i].Inverse() * gt[j];
-    ASSERT_TRUE(MakeBetweenSE3(Pose3Key(i), Pose3Key(j), z, rng->Information(6, 20.0),
+    ASSERT_TRUE(MakeBetweenSE3(Pose3Key(i), Pose3Key(j), z, rng->SpdMatrix(6, 20.0),
                                &f, &error));
     ASSERT_GE(graph->AddFactor(std::move(f)), 0);
   };
@@ -178,7 +159,7 @@ TEST(MarginalsTest, Chain2DWithPriorMatchesDenseInverse) {
   Factor prior;
   std::string error;
   ASSERT_TRUE(MakePriorSE2(Pose2Key(0), Pose2(0.1, -0.2, 0.3),
-                           rng.Information(3, 100.0), &prior, &error));
+                           rng.SpdMatrix(3, 100.0), &prior, &error));
   ASSERT_GE(graph.AddFactor(prior), 0);
   const std::vector<Key> keys = Keys(graph);
   std::map<Key, Eigen::MatrixXd> cov;
@@ -247,7 +228,7 @@ TEST(MarginalsTest, Chain3DWithPriorMatchesDenseInverse) {
   std::string error;
   ASSERT_TRUE(MakePriorSE3(Pose3Key(0),
                            Pose3(Eigen::Vector3d(0.1, 0.2, 0.3), rng.Quaternion()),
-                           rng.Information(6, 100.0), &prior, &error));
+                           rng.SpdMatrix(6, 100.0), &prior, &error));
   ASSERT_GE(graph.AddFactor(prior), 0);
   const std::vector<Key> keys = Keys(graph);
   std::map<Key, Eigen::MatrixXd> cov;

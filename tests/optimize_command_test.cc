@@ -33,24 +33,10 @@ namespace {
 using ::slam::testing::DatasetPath;
 using ::slam::testing::RunSlam;
 using ::slam::testing::TempDir;
-
-std::string ReadText(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-void WriteText(const std::string& path, const std::string& text) {
-  std::ofstream out(path);
-  out << text;
-}
-
-bool Exists(const std::string& path) { return std::filesystem::exists(path); }
-
-bool Contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
+using ::slam::testing::ReadText;
+using ::slam::testing::WriteText;
+using ::slam::testing::Contains;
+using ::slam::testing::Exists;
 
 // Names of the entries of a directory.
 std::set<std::string> ListDir(const std::string& dir) {

@@ -22,24 +22,14 @@
 #include "factors/pose_factors.h"
 #include "factors/robust_kernels.h"
 #include "gtest/gtest.h"
+#include "tests/test_random.h"
 
 namespace slam {
 namespace {
 
 using Matrix6d = Eigen::Matrix<double, 6, 6>;
 
-class Rng {
- public:
-  explicit Rng(unsigned seed) : gen_(seed) {}
-  double Normal() { return std::normal_distribution<double>(0.0, 1.0)(gen_); }
-  double Uniform(double lo, double hi) {
-    return std::uniform_real_distribution<double>(lo, hi)(gen_);
-  }
-  Eigen::Vector3d Normal3() { return Eigen::Vector3d(Normal(), Normal(), Normal()); }
-
- private:
-  std::mt19937 gen_;
-};
+using Rng = ::slam::testing::TestRng;
 
 Pose2 Noise2(Rng* rng, double st, double sr) {
   return Pose2(st * rng->Normal(), st * rng->Normal(), sr * rng->Normal());

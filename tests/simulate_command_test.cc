@@ -19,24 +19,13 @@ namespace {
 
 using ::slam::testing::RunSlam;
 using ::slam::testing::TempDir;
-
-std::string ReadText(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-void WriteText(const std::string& path, const std::string& text) {
-  std::ofstream out(path);
-  out << text;
-}
+using ::slam::testing::ReadText;
+using ::slam::testing::WriteText;
+using ::slam::testing::Exists;
 
 std::string ConfigsDir() {
   return std::string(SLAM_TEST_DATA_DIR) + "/../../configs";
 }
-
-bool Exists(const std::string& path) { return std::filesystem::exists(path); }
 
 void ExpectSameConfig(const SimulationConfig& a, const SimulationConfig& b) {
   EXPECT_EQ(a.seed, b.seed);

@@ -15,10 +15,7 @@
 namespace slam {
 namespace {
 
-void WriteText(const std::string& path, const std::string& text) {
-  std::ofstream out(path);
-  out << text;
-}
+using ::slam::testing::WriteText;
 
 Trajectory Sample() {
   Trajectory t;
