@@ -71,7 +71,6 @@ bool ReadWholeFile(const std::string& path, std::string* contents,
   return true;
 }
 
-
 bool LineTokenizer::Next() {
   tokens_.clear();
   while (pos_ < text_.size()) {
@@ -79,9 +78,9 @@ bool LineTokenizer::Next() {
     const size_t remaining = text_.size() - pos_;
     const void* nl = std::memchr(begin, '\n', remaining);
     const size_t length =
-        nl != nullptr ? static_cast<size_t>(static_cast<const char*>(nl) -
-                                            begin)
-                      : remaining;
+        nl != nullptr
+            ? static_cast<size_t>(static_cast<const char*>(nl) - begin)
+            : remaining;
     pos_ += length + 1;  // May step past the end; the loop test handles it.
     ++line_;
     size_t k = 0;
@@ -196,9 +195,8 @@ bool ParseId(const std::vector<std::string_view>& tokens, size_t index,
 
 void AppendDouble(double value, std::string* out) {
   char buffer[64];
-  const std::to_chars_result r =
-      std::to_chars(buffer, buffer + sizeof(buffer), value,
-                    std::chars_format::general, 17);
+  const std::to_chars_result r = std::to_chars(
+      buffer, buffer + sizeof(buffer), value, std::chars_format::general, 17);
   out->append(buffer, r.ptr);
 }
 
@@ -246,8 +244,7 @@ bool CollectPoseGraph(const std::string& path, const Graph& graph,
     }
     for (double v : node->value) {
       if (!std::isfinite(v)) {
-        *error = path + ": node " + key.ToString() +
-                 " has a non-finite value";
+        *error = path + ": node " + key.ToString() + " has a non-finite value";
         return false;
       }
     }
@@ -273,8 +270,7 @@ bool CollectPoseGraph(const std::string& path, const Graph& graph,
     bool ok = contents->dimension == (is3 ? 3 : 2) &&
               factor.keys.size() == (between ? 2u : 1u) &&
               factor.measurement.size() == (is3 ? 7 : 3) &&
-              factor.information.rows() == n &&
-              factor.information.cols() == n;
+              factor.information.rows() == n && factor.information.cols() == n;
     for (const Key& key : factor.keys) {
       ok = ok && key.kind == kind && graph.HasNode(key);
     }
@@ -363,8 +359,8 @@ bool PoseGraphBuilder::AddVertexSE3(int64_t line, int64_t id,
                                  " has zero length");
     return false;
   }
-  return AddVertex(line, id,
-                   {t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w()}, error);
+  return AddVertex(line, id, {t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w()},
+                   error);
 }
 
 template <int N>
@@ -378,8 +374,9 @@ bool PoseGraphBuilder::CheckInformation(
   }
   const Eigen::MatrixXd repaired = NearestPositiveDefinite(*information);
   if (!IsPositiveDefinite(repaired)) {
-    *error = LineError(line, "information matrix is not positive definite "
-                             "and cannot be repaired");
+    *error = LineError(line,
+                       "information matrix is not positive definite "
+                       "and cannot be repaired");
     return false;
   }
   *information = repaired;
@@ -401,15 +398,13 @@ bool PoseGraphBuilder::AddBetweenSE2(int64_t line, int64_t i, int64_t j,
   Pose2 z;
   z.t = Eigen::Vector2d(x, y);
   z.theta = WrapAngle(theta);
-  PendingFactor pending{line, Factor()};
-  std::string problem;
-  if (!MakeBetweenSE2(Pose2Key(i), Pose2Key(j), z, info, &pending.factor,
-                      &problem)) {
-    *error = LineError(line, problem);
-    return false;
-  }
-  factors_.push_back(std::move(pending));
-  return true;
+  return QueueFactor(
+      line,
+      [&](Factor* factor, std::string* problem) {
+        return MakeBetweenSE2(Pose2Key(i), Pose2Key(j), z, info, factor,
+                              problem);
+      },
+      error);
 }
 
 bool PoseGraphBuilder::AddBetweenSE3(
@@ -429,19 +424,17 @@ bool PoseGraphBuilder::AddBetweenSE3(
     *error = LineError(line, "edge quaternion has zero length");
     return false;
   }
-  PendingFactor pending{line, Factor()};
-  std::string problem;
-  if (!MakeBetweenSE3(Pose3Key(i), Pose3Key(j), z, info, &pending.factor,
-                      &problem)) {
-    *error = LineError(line, problem);
-    return false;
-  }
-  factors_.push_back(std::move(pending));
-  return true;
+  return QueueFactor(
+      line,
+      [&](Factor* factor, std::string* problem) {
+        return MakeBetweenSE3(Pose3Key(i), Pose3Key(j), z, info, factor,
+                              problem);
+      },
+      error);
 }
 
-bool PoseGraphBuilder::AddPriorSE2(int64_t line, int64_t id, double x,
-                                   double y, double theta,
+bool PoseGraphBuilder::AddPriorSE2(int64_t line, int64_t id, double x, double y,
+                                   double theta,
                                    const Eigen::Matrix3d& information,
                                    std::string* error) {
   ++edges_;
@@ -451,14 +444,12 @@ bool PoseGraphBuilder::AddPriorSE2(int64_t line, int64_t id, double x,
   Pose2 z;
   z.t = Eigen::Vector2d(x, y);
   z.theta = WrapAngle(theta);
-  PendingFactor pending{line, Factor()};
-  std::string problem;
-  if (!MakePriorSE2(Pose2Key(id), z, info, &pending.factor, &problem)) {
-    *error = LineError(line, problem);
-    return false;
-  }
-  factors_.push_back(std::move(pending));
-  return true;
+  return QueueFactor(
+      line,
+      [&](Factor* factor, std::string* problem) {
+        return MakePriorSE2(Pose2Key(id), z, info, factor, problem);
+      },
+      error);
 }
 
 bool PoseGraphBuilder::AddPriorSE3(
@@ -475,14 +466,12 @@ bool PoseGraphBuilder::AddPriorSE3(
     *error = LineError(line, "prior quaternion has zero length");
     return false;
   }
-  PendingFactor pending{line, Factor()};
-  std::string problem;
-  if (!MakePriorSE3(Pose3Key(id), z, info, &pending.factor, &problem)) {
-    *error = LineError(line, problem);
-    return false;
-  }
-  factors_.push_back(std::move(pending));
-  return true;
+  return QueueFactor(
+      line,
+      [&](Factor* factor, std::string* problem) {
+        return MakePriorSE3(Pose3Key(id), z, info, factor, problem);
+      },
+      error);
 }
 
 void PoseGraphBuilder::AddFix(int64_t line, int64_t id) {
@@ -516,8 +505,8 @@ bool PoseGraphBuilder::Finish(Graph* graph, GraphReadReport* report,
   Graph result;
   for (const auto& [id, value] : vertices_) {
     if (result.AddNode(MakeKey(id), value) == nullptr) {
-      *error = LineError(vertex_lines_.at(id), "cannot add vertex " +
-                                                   std::to_string(id));
+      *error = LineError(vertex_lines_.at(id),
+                         "cannot add vertex " + std::to_string(id));
       return false;
     }
   }
@@ -546,8 +535,8 @@ bool PoseGraphBuilder::Finish(Graph* graph, GraphReadReport* report,
   for (const auto& [line, id] : fixes_) {
     Node* node = dimension_ == 0 ? nullptr : result.FindNode(MakeKey(id));
     if (node == nullptr) {
-      *error = LineError(line, "FIX of unknown vertex id " +
-                                   std::to_string(id));
+      *error =
+          LineError(line, "FIX of unknown vertex id " + std::to_string(id));
       return false;
     }
     if (!node->fixed) ++fixed;
@@ -557,8 +546,8 @@ bool PoseGraphBuilder::Finish(Graph* graph, GraphReadReport* report,
     std::string problem;
     if (!InitializePoses(&result, InitMethod::kSpanningTree, &problem,
                          &missing)) {
-      *error = name_ + ": cannot initialize the vertices from the edges: " +
-               problem;
+      *error =
+          name_ + ": cannot initialize the vertices from the edges: " + problem;
       return false;
     }
   }
@@ -572,9 +561,9 @@ bool PoseGraphBuilder::Finish(Graph* graph, GraphReadReport* report,
       const std::string lines =
           std::to_string(count) + (count == 1 ? " line" : " lines");
       report->warnings.push_back(
-          tag.empty() ? "further unknown tags (" + lines + ") skipped"
-                      : "unknown tag '" + Printable(tag) + "' (" + lines +
-                            ") skipped");
+          tag.empty()
+              ? "further unknown tags (" + lines + ") skipped"
+              : "unknown tag '" + Printable(tag) + "' (" + lines + ") skipped");
     }
   }
   *graph = std::move(result);

@@ -6,6 +6,8 @@
 #ifndef SLAM_DATASETS_TEXT_UTIL_H_
 #define SLAM_DATASETS_TEXT_UTIL_H_
 
+#include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <cstdint>
 #include <set>
 #include <string>
@@ -13,9 +15,6 @@
 #include <unordered_map>
 #include <utility>
 #include <vector>
-
-#include <Eigen/Core>
-#include <Eigen/Geometry>
 
 #include "core/graph.h"
 #include "core/keys.h"
@@ -27,7 +26,6 @@ namespace slam::text {
 bool ReadWholeFile(const std::string& path, std::string* contents,
                    std::string* error);
 
-
 // Splits text into lines ('\n'; a trailing '\r' is whitespace) and each line
 // into tokens separated by spaces, tabs, '\r', '\v' or '\f'. A token starting
 // with '#' starts a comment that runs to the end of the line. A UTF-8 byte
@@ -35,8 +33,7 @@ bool ReadWholeFile(const std::string& path, std::string* contents,
 class LineTokenizer {
  public:
   explicit LineTokenizer(std::string_view text)
-      : text_(text),
-        pos_(text.substr(0, 3) == "\xEF\xBB\xBF" ? 3 : 0) {}
+      : text_(text), pos_(text.substr(0, 3) == "\xEF\xBB\xBF" ? 3 : 0) {}
 
   // Advances to the next line with at least one token; false at the end.
   bool Next();
@@ -114,8 +111,8 @@ class PoseGraphBuilder {
   PoseGraphBuilder(const std::string& name, const GraphReadOptions& options);
 
   // Vertex values: SE(2) (x, y, theta); SE(3) t and q (any non-zero norm).
-  bool AddVertexSE2(int64_t line, int64_t id, double x, double y,
-                    double theta, std::string* error);
+  bool AddVertexSE2(int64_t line, int64_t id, double x, double y, double theta,
+                    std::string* error);
   bool AddVertexSE3(int64_t line, int64_t id, const Eigen::Vector3d& t,
                     const Eigen::Vector4d& q_xyzw, std::string* error);
   // Between and prior edges with the measurement and the information in our
@@ -162,6 +159,19 @@ class PoseGraphBuilder {
   bool CheckInformation(int64_t line, Eigen::Matrix<double, N, N>* information,
                         std::string* error);
   Key MakeKey(int64_t id) const;
+  // Queues the factor built by make(&factor, &problem); a failure becomes
+  // "NAME:LINE: problem".
+  template <typename Make>
+  bool QueueFactor(int64_t line, Make make, std::string* error) {
+    PendingFactor pending{line, Factor()};
+    std::string problem;
+    if (!make(&pending.factor, &problem)) {
+      *error = LineError(line, problem);
+      return false;
+    }
+    factors_.push_back(std::move(pending));
+    return true;
+  }
 
   std::string name_;
   GraphReadOptions options_;
@@ -170,7 +180,7 @@ class PoseGraphBuilder {
   std::vector<std::pair<int64_t, std::vector<double>>> vertices_;
   std::unordered_map<int64_t, int64_t> vertex_lines_;  // id -> line.
   std::vector<PendingFactor> factors_;
-  std::vector<std::pair<int64_t, int64_t>> fixes_;  // (line, id).
+  std::vector<std::pair<int64_t, int64_t>> fixes_;             // (line, id).
   std::vector<std::pair<std::string, int64_t>> unknown_tags_;  // Tag, lines.
   int edges_ = 0;
   int repaired_ = 0;
