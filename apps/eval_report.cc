@@ -6,17 +6,13 @@
 #include <filesystem>
 #include <sstream>
 
+#include "apps/format.h"
 #include "apps/plot_module.h"
 #include "apps/yaml_config.h"
 
 namespace slam {
 namespace {
 
-std::string Fmt(const char* fmt, double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof(buf), fmt, v);
-  return buf;
-}
 
 std::string AlignmentDescription(const EvalSettings& s, size_t pairs) {
   const size_t used =

@@ -8,16 +8,12 @@
 #include <filesystem>
 
 #include "apps/eval_report.h"
+#include "apps/format.h"
 #include "apps/plot/plot.h"
 
 namespace slam {
 namespace {
 
-std::string Fmt(const char* fmt, double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof(buf), fmt, v);
-  return buf;
-}
 
 // x values of the plots: seconds from the first matched estimate stamp, or
 // the pair index when associated by index.
