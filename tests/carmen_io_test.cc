@@ -340,8 +340,7 @@ TEST(CarmenIo, AcesLog) {
   const std::string copy = TempDir() + "/aces.clf";
   ASSERT_TRUE(WriteCarmenLog(copy, log, &error)) << error;
   CarmenLog back;
-  ASSERT_TRUE(ReadCarmenLog(copy, CarmenReadOptions(), &back, &error))
-      << error;
+  ASSERT_TRUE(ReadCarmenLog(copy, CarmenReadOptions(), &back, &error)) << error;
   ExpectSameLog(log, back);
 }
 
