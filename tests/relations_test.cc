@@ -300,6 +300,15 @@ TEST(Relations, EvalCommand) {
                        dir + "/bad.relations:2: expected 8 fields"))
       << ReadText(dir + "/log4.txt");
   EXPECT_FALSE(testing::Exists(dir + "/bad.json"));
+  // The options come from the eval: section of a config too.
+  WriteText(dir + "/config.yaml", "eval:\n  relations_t_max_diff: -1\n");
+  EXPECT_EQ(RunSlam("eval --config " + dir + "/config.yaml --relations " + dir +
+                        "/gt.relations --est " + dir + "/est.tum",
+                    dir + "/log6.txt"),
+            2);
+  EXPECT_TRUE(Contains(ReadText(dir + "/log6.txt"),
+                       "relations_t_max_diff must be >= 0"))
+      << ReadText(dir + "/log6.txt");
   // The options are in --dump_config.
   EXPECT_EQ(
       RunSlam("eval --dump_config --relations_interpolate", dir + "/log5.txt"),
