@@ -67,14 +67,19 @@ TEST(LandmarkDataTest, VictoriaParkConvergesWithRobustLandmarks) {
   EXPECT_EQ(odometry, 6968);
   EXPECT_EQ(landmark, 3640);
   EXPECT_EQ(report.landmarks_initialized, 151);
-  SetLandmarkKernel("huber:3", &graph);
-  const OptimizerSummary summary = Optimize(&graph, Quiet(), nullptr);
+  // DCS on the landmark factors and non-monotonic steps (as
+  // configs/benchmarks/landmarks.yaml): Huber and plain least squares stop
+  // in poorer minima from dead reckoning (chi2 2.2e5 and 5.0e5).
+  SetLandmarkKernel("dcs:50", &graph);
+  OptimizerOptions options = Quiet();
+  options.nonmonotonic_steps = true;
+  const OptimizerSummary summary = Optimize(&graph, options, nullptr);
   EXPECT_TRUE(summary.converged) << summary.termination;
   EXPECT_EQ(summary.linear_solver, "SPARSE_NORMAL_CHOLESKY");
-  // From dead reckoning (chi2 1.3e8) to a consistent map: the chi2 drops by
-  // more than two orders of magnitude, the robust cost by more than 30x.
-  EXPECT_LT(summary.final_chi2, 1e-2 * summary.initial_chi2);
-  EXPECT_LT(summary.final_robust_chi2, summary.initial_robust_chi2 / 30.0);
+  // From dead reckoning (chi2 1.3e8) to a consistent map: the chi2 ends
+  // below the number of factors (10608).
+  EXPECT_GT(summary.initial_chi2, 1e8);
+  EXPECT_LT(summary.final_chi2, 10608.0);
   // Loop closure through the landmarks: the odometry factors stay close to
   // their measurements (mean chi2 per odometry factor well below 10).
   double odometry_chi2 = 0.0;
