@@ -216,5 +216,37 @@ TEST(LandmarkDataTest, ToroExampleWithBearingRangeOptimizes) {
   EXPECT_LT(summary.final_chi2, summary.initial_chi2);
 }
 
+TEST(LandmarkDataTest, OptimizeCommandRunsStereoVo) {
+  const std::string factors =
+      DatasetPath("stereo_vo_factors/gtsam_VO_stereo_factors_large.txt");
+  SLAM_REQUIRE_DATASET(factors);
+  const std::string dir = ::slam::testing::TempDir();
+  const std::string log = dir + "/log.txt";
+  ASSERT_EQ(
+      ::slam::testing::RunSlam(
+          "optimize -i " + factors + " --stereo_calibration " +
+              DatasetPath("stereo_vo_factors/gtsam_VO_calibration.txt") +
+              " --stereo_poses " +
+              DatasetPath("stereo_vo_factors/gtsam_VO_camera_poses_large.txt") +
+              " --quiet -o " + dir + "/ba.g2o",
+          log),
+      0)
+      << ::slam::testing::ReadText(log);
+  const std::string text = ::slam::testing::ReadText(log);
+  EXPECT_TRUE(::slam::testing::Contains(text, "reprojection RMS ")) << text;
+  EXPECT_TRUE(::slam::testing::Contains(text, "SPARSE_SCHUR")) << text;
+  Graph back;
+  std::string error;
+  ASSERT_TRUE(ReadG2o(dir + "/ba.g2o", {}, &back, nullptr, &error)) << error;
+  EXPECT_EQ(back.NumFactors(), 8189u);
+  // Missing the poses flag: usage error, nothing written.
+  EXPECT_EQ(::slam::testing::RunSlam("optimize -i " + factors +
+                                         " --stereo_calibration x -o " + dir +
+                                         "/none.g2o",
+                                     log),
+            2);
+  EXPECT_FALSE(::slam::testing::Exists(dir + "/none.g2o"));
+}
+
 }  // namespace
 }  // namespace slam

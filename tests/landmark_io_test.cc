@@ -444,5 +444,40 @@ TEST(LandmarkIoTest, OptimizeFailsOnBadInputWithoutOutput) {
   EXPECT_FALSE(Exists(dir + "/out.g2o"));
 }
 
+TEST(LandmarkIoTest, OptimizeWritesLandmarksAndDrawsTheMap) {
+  const std::string dir = TempDir();
+  // Three poses along x, two landmarks seen from each (relative position,
+  // exact), noisy odometry: the landmarks pull the poses straight.
+  std::string text =
+      "EDGE_SE2 0 1 1.1 0 0.05 100 0 0 100 0 100\n"
+      "EDGE_SE2 1 2 0.9 0 -0.05 100 0 0 100 0 100\n";
+  for (int i = 0; i < 3; ++i) {
+    for (int j : {10, 11}) {
+      const double lx = j == 10 ? 1.0 : 2.0, ly = j == 10 ? 2.0 : -2.0;
+      text += "EDGE_SE2_XY " + std::to_string(i) + " " + std::to_string(j) +
+              " " + std::to_string(lx - i) + " " + std::to_string(ly) +
+              " 1000 0 1000\n";
+    }
+  }
+  WriteText(dir + "/in.g2o", text);
+  const std::string log = dir + "/log.txt";
+  ASSERT_EQ(::slam::testing::RunSlam("optimize -i " + dir + "/in.g2o -o " +
+                                         dir + "/out.g2o --plot " + dir +
+                                         "/plots --robust_landmark huber:1",
+                                     log),
+            0)
+      << ReadText(log);
+  EXPECT_TRUE(Contains(ReadText(log), "landmarks: 2")) << ReadText(log);
+  EXPECT_TRUE(Exists(dir + "/plots/map.png"));
+  Graph out;
+  std::string error;
+  ASSERT_TRUE(ReadG2o(dir + "/out.g2o", {}, &out, nullptr, &error)) << error;
+  ASSERT_TRUE(out.HasNode(Point2Key(10)));
+  const std::vector<double>& l = out.FindNode(Point2Key(10))->value;
+  EXPECT_NEAR(l[0], 1.0, 0.05);
+  EXPECT_NEAR(l[1], 2.0, 0.05);
+  EXPECT_EQ(out.NumFactors(), 8u);
+}
+
 }  // namespace
 }  // namespace slam
