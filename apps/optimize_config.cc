@@ -36,7 +36,7 @@ bool LoadOptimizeConfig(const std::string& path, OptimizeConfig* config,
                        "gradient_tolerance", "parameter_tolerance",
                        "initial_trust_region_radius", "linear_solver",
                        "ordering", "sparse_library", "num_threads", "verbose",
-                       "repair_information", "robust"},
+                       "repair_information", "robust", "nonmonotonic_steps"},
                       path, error)) {
     return false;
   }
@@ -53,6 +53,8 @@ bool LoadOptimizeConfig(const std::string& path, OptimizeConfig* config,
                     error) ||
       !ReadOptional(node, "initial_trust_region_radius", path,
                     &o.initial_trust_region_radius, error) ||
+      !ReadOptional(node, "nonmonotonic_steps", path, &o.nonmonotonic_steps,
+                    error) ||
       !ReadOptional(node, "linear_solver", path, &o.linear_solver, error) ||
       !ReadOptional(node, "ordering", path, &o.ordering, error) ||
       !ReadOptional(node, "sparse_library", path, &o.sparse_library, error) ||
@@ -69,13 +71,16 @@ bool LoadOptimizeConfig(const std::string& path, OptimizeConfig* config,
   }
   const YAML::Node robust = node["robust"];
   if (robust) {
-    if (!CheckKnownKeys(robust, {"odometry", "loop_closure", "prior"}, path,
+    if (!CheckKnownKeys(robust,
+                        {"odometry", "loop_closure", "prior", "landmark"}, path,
                         error) ||
         !ReadKernel(robust, "odometry", path, &config->robust_odometry,
                     error) ||
         !ReadKernel(robust, "loop_closure", path, &config->robust_loop_closure,
                     error) ||
-        !ReadKernel(robust, "prior", path, &config->robust_prior, error)) {
+        !ReadKernel(robust, "prior", path, &config->robust_prior, error) ||
+        !ReadKernel(robust, "landmark", path, &config->robust_landmark,
+                    error)) {
       return false;
     }
   }
@@ -150,6 +155,8 @@ std::string OptimizeConfigToYaml(const OptimizeConfig& config) {
       << "  parameter_tolerance: " << o.parameter_tolerance << "\n"
       << "  initial_trust_region_radius: " << o.initial_trust_region_radius
       << "\n"
+      << "  nonmonotonic_steps: " << (o.nonmonotonic_steps ? "true" : "false")
+      << "\n"
       << "  linear_solver: " << o.linear_solver << "\n"
       << "  ordering: " << o.ordering << "\n"
       << "  sparse_library: " << o.sparse_library << "\n"
@@ -160,7 +167,8 @@ std::string OptimizeConfigToYaml(const OptimizeConfig& config) {
       << "  robust:\n"
       << "    odometry: " << config.robust_odometry.ToString() << "\n"
       << "    loop_closure: " << config.robust_loop_closure.ToString() << "\n"
-      << "    prior: " << config.robust_prior.ToString() << "\n";
+      << "    prior: " << config.robust_prior.ToString() << "\n"
+      << "    landmark: " << config.robust_landmark.ToString() << "\n";
   return out.str();
 }
 

@@ -13,6 +13,11 @@ const char* FactorTypeName(FactorType type) {
     case FactorType::kBetweenSE3: return "between_se3";
     case FactorType::kPriorSE2: return "prior_se2";
     case FactorType::kPriorSE3: return "prior_se3";
+    case FactorType::kRangeBearing2: return "range_bearing_2d";
+    case FactorType::kRelativePoint2: return "relative_point2";
+    case FactorType::kRelativePoint3: return "relative_point3";
+    case FactorType::kStereo: return "stereo";
+    case FactorType::kReprojection: return "reprojection";
     case FactorType::kOther: return "other";
   }
   return "other";

@@ -45,6 +45,13 @@ enum class FactorType : uint8_t {
   kBetweenSE3,      // keys {i, j}; measurement (t, q xyzw) of X_i^-1 X_j.
   kPriorSE2,        // keys {i}; measurement (x, y, theta) of X_i.
   kPriorSE3,        // keys {i}; measurement (t, q xyzw) of X_i.
+  // Landmark and camera factors (factors/landmark_factors.h gives the
+  // measurement layouts): keys {pose, point}.
+  kRangeBearing2,   // SE(2) pose, 2D point: (range, bearing).
+  kRelativePoint2,  // SE(2) pose, 2D point: point in the robot frame.
+  kRelativePoint3,  // SE(3) pose, 3D point: point in the sensor frame.
+  kStereo,          // SE(3) camera, 3D point: rectified stereo (uL, uR, v).
+  kReprojection,    // SE(3) camera, 3D point: pinhole (u, v).
   kOther,
 };
 const char* FactorTypeName(FactorType type);

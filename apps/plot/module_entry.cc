@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "apps/eval_report.h"
+#include "apps/map_plot.h"
 #include "apps/plot/map_plot.h"
 
 // The module's entry point, looked up by name (apps/plot_module.h).
@@ -23,4 +24,11 @@ extern "C" bool SlamWriteMapPng(const std::string& path,
                                 const std::vector<Eigen::Vector2d>& trajectory,
                                 std::string* error) {
   return slam::WriteMapPngImpl(path, image, trajectory, error);
+}
+
+// The map plot of `slam optimize --plot` on graphs with landmarks.
+extern "C" bool SlamWriteMapPlot(const std::string& path,
+                                 const slam::MapPlotData& data,
+                                 std::string* error) {
+  return slam::WriteMapPlotImpl(path, data, error);
 }
