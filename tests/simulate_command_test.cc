@@ -349,6 +349,14 @@ TEST(SimulateCommandTest, ShippedConfigsLoadAndSimulate) {
     std::string error;
     ASSERT_TRUE(LoadSimulationConfig(entry.path().string(), &config, &error))
         << error;
+    // --dump_config prints it back exactly.
+    const std::string dump = TempDir() + "/dump.yaml";
+    ASSERT_EQ(RunSlam("simulate --config " + entry.path().string() +
+                      " --dump_config > " + dump),
+              0);
+    SimulationConfig dumped;
+    ASSERT_TRUE(LoadSimulationConfig(dump, &dumped, &error)) << error;
+    ExpectSameConfig(dumped, config);
     SimulationResult result;
     ASSERT_TRUE(Simulate(config, &result, &error)) << error;
     if (result.landmarks.empty()) {
