@@ -12,7 +12,6 @@
 #include "core/graph.h"
 #include "core/keys.h"
 #include "core/lie.h"
-#include "core/triangulation.h"
 #include "datasets/simulator.h"
 #include "datasets/simulator_internal.h"
 #include "factors/camera_models.h"
@@ -252,19 +251,6 @@ bool MakeObservationFactor(const SimulationConfig& config, const Key& pose,
   return false;
 }
 
-// The world ray of a monocular observation.
-bool ObservationRay(const Graph& graph, const Factor& f,
-                    Eigen::Vector3d* origin, Eigen::Vector3d* direction) {
-  const Pose3 camera = NodePose3(*graph.FindNode(f.keys[0]));
-  Eigen::Vector2d n;
-  if (!UnprojectPinhole(PinholeCalibrationOf(f), f.measurement.head<2>(), &n)) {
-    return false;
-  }
-  *origin = camera.t;
-  *direction = camera.q * Eigen::Vector3d(n.x(), n.y(), 1.0);
-  return true;
-}
-
 bool AllFinite(const Graph& graph, const std::vector<const Factor*>& factors) {
   for (const Factor* f : factors) {
     double chi2 = 0.0;
@@ -273,39 +259,62 @@ bool AllFinite(const Graph& graph, const std::vector<const Factor*>& factors) {
   return true;
 }
 
+// The landmark initialization (factors/landmark_init.h) of point `key` from
+// the two observations a and b only: on a graph holding just those cameras
+// and the point. False if it finds no proper (two-ray) position.
+bool InitializeFromPair(const Graph& graph, const Key& key, const Factor& a,
+                        const Factor& b, std::vector<double>* value) {
+  Graph pair;
+  for (const Factor* f : {&a, &b}) {
+    const Node* camera = graph.FindNode(f->keys[0]);
+    if (!pair.HasNode(camera->key)) pair.AddNode(camera->key, camera->value);
+  }
+  pair.AddNode(key, *value);
+  if (pair.AddFactor(a) < 0 || pair.AddFactor(b) < 0) return false;
+  const LandmarkInitReport report = InitializeLandmarks(&pair);
+  if (report.initialized != 1 || report.weak > 0) return false;
+  *value = pair.FindNode(key)->value;
+  return true;
+}
+
 // Monocular: the landmark initialization triangulates the first ray with the
 // one furthest from it, which through the drifting dead-reckoned poses (the
 // first and the last camera of the circle) can put a point behind a camera
 // that sees it, where the reprojection error is undefined. Such points are
-// triangulated again from the earliest pair of observations whose rays are
-// min_parallax apart (cameras close in time: little drift between them).
-// Returns the number of points moved; false if one stays undefined.
+// triangulated again from the earliest pair of observations whose true rays
+// are min_parallax apart (cameras close in time: little drift between them).
+// `observations` and `factors` are parallel. Counts the points moved in
+// *moved; false if one stays undefined.
 bool RetriangulateUndefinedPoints(const SimulationConfig& config,
+                                  const TruePoses& truth,
+                                  const std::vector<Eigen::Vector3d>& points,
+                                  const std::vector<Observation>& observations,
                                   const std::vector<FactorId>& factors,
                                   Graph* graph, int* moved,
                                   std::string* error) {
   *moved = 0;
-  std::map<Key, std::vector<const Factor*>> by_point;
-  for (FactorId id : factors) {
-    const Factor* f = graph->FindFactor(id);
-    by_point[f->keys[1]].push_back(f);
+  std::map<Key, std::vector<size_t>> by_point;  // Indices of observations.
+  for (size_t i = 0; i < factors.size(); ++i) {
+    by_point[graph->FindFactor(factors[i])->keys[1]].push_back(i);
   }
   const double min_angle = std::max(config.landmarks.min_parallax, 1e-6);
-  for (const auto& [key, obs] : by_point) {
+  for (const auto& [key, indices] : by_point) {
+    std::vector<const Factor*> obs;
+    for (size_t i : indices) obs.push_back(graph->FindFactor(factors[i]));
     if (AllFinite(*graph, obs)) continue;
+    const Eigen::Vector3d& p = points[observations[indices[0]].landmark];
     std::vector<double>& value = graph->FindNode(key)->value;
     bool placed = false;
     for (size_t a = 0; a < obs.size() && !placed; ++a) {
-      Eigen::Vector3d o1, d1;
-      if (!ObservationRay(*graph, *obs[a], &o1, &d1)) continue;
+      const int pose_a = observations[indices[a]].pose;
       for (size_t b = a + 1; b < obs.size() && !placed; ++b) {
-        Eigen::Vector3d o2, d2, p;
-        if (!ObservationRay(*graph, *obs[b], &o2, &d2) ||
-            std::atan2(d1.cross(d2).norm(), d1.dot(d2)) < min_angle ||
-            !TriangulateMidpoint(o1, d1, o2, d2, &p)) {
+        const int pose_b = observations[indices[b]].pose;
+        std::vector<double> candidate = value;
+        if (Parallax(truth, p, {pose_a, pose_b}) < min_angle ||
+            !InitializeFromPair(*graph, key, *obs[a], *obs[b], &candidate)) {
           continue;
         }
-        std::copy(p.data(), p.data() + 3, value.begin());
+        std::copy(candidate.begin(), candidate.end(), value.begin());
         placed = AllFinite(*graph, obs);
       }
     }
@@ -586,7 +595,8 @@ bool SimulateLandmarkWorld(const SimulationConfig& config, Random* random,
     return false;
   }
   return type != "monocular" ||
-         RetriangulateUndefinedPoints(config, result->landmark_factors, &graph,
+         RetriangulateUndefinedPoints(config, truth, points, observations,
+                                      result->landmark_factors, &graph,
                                       &result->retriangulated_landmarks, error);
 }
 

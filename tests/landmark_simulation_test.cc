@@ -352,6 +352,12 @@ TEST(LandmarkSimulationTest, Structure) {
     for (const auto& [key, c] : count) {
       EXPECT_GE(c, std::max(config.landmarks.min_observations, camera ? 2 : 1));
     }
+    // Every factor is defined at the initial values (no point behind a
+    // camera that sees it).
+    for (const auto& [id, f] : r.graph.factors()) {
+      double chi2 = 0.0;
+      EXPECT_TRUE(r.graph.FactorChi2(f, &chi2) && std::isfinite(chi2)) << id;
+    }
     // Dimensions: residuals of all factors, tangent sizes of the free nodes.
     int residuals = 0;
     for (const auto& [id, f] : r.graph.factors()) {
@@ -363,6 +369,25 @@ TEST(LandmarkSimulationTest, Structure) {
               pose_dim * (n - fixed) +
                   (r.is_3d ? 3 : 2) * static_cast<int>(r.landmarks.size()));
   }
+}
+
+// Monocular: with drift, the widest pair of rays can put a point behind a
+// camera; those points are triangulated again from an early pair, so that
+// every reprojection error is defined and the solve can start.
+TEST(LandmarkSimulationTest, MonocularPointsBehindCamerasAreRetriangulated) {
+  SimulationConfig config = Camera("monocular");
+  config.world.num_poses = 60;
+  config.landmarks.num_landmarks = 200;
+  config.seed = 3;
+  SimulationResult r;
+  SimulateOrDie(config, &r);
+  EXPECT_GT(r.retriangulated_landmarks, 0);
+  EXPECT_TRUE(std::isfinite(r.graph.Chi2()));
+  OptimizerOptions options;
+  options.verbose = false;
+  const OptimizerSummary summary = Optimize(&r.graph, options, nullptr);
+  EXPECT_TRUE(summary.converged) << summary.termination;
+  EXPECT_LT(RmsError(r.graph, r, true), 0.1);
 }
 
 // Camera worlds: the true points lie in the ball, in front of every camera
