@@ -17,9 +17,24 @@
 #include "core/marginals.h"
 #include "datasets/atomic_file.h"
 #include "datasets/g2o_io.h"
+#include "datasets/stereo_vo_io.h"
 #include "datasets/trajectory_io.h"
+#include "factors/landmark_factors.h"
+#include "factors/landmark_init.h"
+#include "apps/map_plot.h"
 
-DEFINE_string(i, "", "input graph file (g2o or TORO .graph)");
+DEFINE_string(i, "",
+              "input graph file (g2o, TORO .graph, iSAM; or the stereo "
+              "factors file with --stereo_calibration and --stereo_poses)");
+DEFINE_string(stereo_calibration, "",
+              "stereo VO input: calibration file 'fx fy skew cx cy baseline' "
+              "(-i is then the stereo factors file)");
+DEFINE_string(stereo_poses, "",
+              "stereo VO input: camera poses 'id + 4x4 row-major' "
+              "(camera-to-world)");
+DEFINE_string(robust_landmark, "none",
+              "robust kernel on the landmark and camera factors: none, "
+              "huber:W, cauchy:W, geman_mcclure:W, dcs:PHI");
 DEFINE_string(o, "", "output file (optimize: graph, .g2o or .graph)");
 DEFINE_string(init, "auto",
               "initial guess: auto, none, odometry, spanning_tree, chordal");
@@ -67,6 +82,12 @@ bool BuildConfig(OptimizeConfig* config, std::string* error) {
     config->robust_odometry = spec;
     config->robust_loop_closure = spec;
   }
+  if (FlagGiven("robust_landmark") &&
+      !ParseRobustKernel(FLAGS_robust_landmark, &config->robust_landmark,
+                         error)) {
+    *error = "--robust_landmark: " + *error;
+    return false;
+  }
   if (FlagGiven("max_iterations")) {
     config->optimizer.max_iterations = FLAGS_max_iterations;
   }
@@ -97,6 +118,7 @@ bool ParseIds(const std::string& text, std::vector<int64_t>* ids,
 // Which robust kernel a factor gets.
 const RobustKernelSpec& KernelFor(const OptimizeConfig& config,
                                   const Factor& factor) {
+  if (IsLandmarkFactor(factor.type)) return config.robust_landmark;
   if (factor.keys.size() == 1) return config.robust_prior;
   const int64_t gap = factor.keys[1].id - factor.keys[0].id;
   return gap == 1 || gap == -1 ? config.robust_odometry
@@ -134,20 +156,53 @@ void RestoreValues(const std::vector<std::vector<double>>& values,
   }
 }
 
+bool HasBetweenFactors(const Graph& graph) {
+  for (const auto& [id, f] : graph.factors()) {
+    if (f.type == FactorType::kBetweenSE2 || f.type == FactorType::kBetweenSE3) {
+      return true;
+    }
+  }
+  return false;
+}
+
+// Poses by the method, then (landmarks_from_observations) the landmarks
+// again from their observations, since the poses moved.
+bool InitializeWith(InitMethod method, bool landmarks_from_observations,
+                    Graph* graph, std::string* error) {
+  if (!InitializePoses(graph, method, error)) return false;
+  if (landmarks_from_observations && method != InitMethod::kNone) {
+    const LandmarkInitReport report = InitializeLandmarks(graph);
+    if (report.failed > 0) {
+      *error = std::to_string(report.failed) +
+               " landmark(s) cannot be initialized from their observations";
+      return false;
+    }
+  }
+  return true;
+}
+
 // Runs the configured initialization; returns the name of what was used.
-bool Initialize(const std::string& init, Graph* graph, std::string* used,
-                std::string* error) {
+// Graphs without relative-pose factors (bundle adjustment) keep their poses.
+bool Initialize(const std::string& init, bool landmarks_from_observations,
+                Graph* graph, std::string* used, std::string* error) {
+  if (!HasBetweenFactors(*graph)) {
+    *used = "file (no relative-pose factors)";
+    return true;
+  }
   if (init != "auto") {
     InitMethod method;
     ParseInitMethod(init, &method);
     *used = init;
-    return InitializePoses(graph, method, error);
+    return InitializeWith(method, landmarks_from_observations, graph, error);
   }
   // Compared under the robust kernels when there are any: a relaxation that
   // spread outlier loop closures over the whole graph scores badly there.
   const double file_chi2 = graph->RobustChi2();
   const std::vector<std::vector<double>> file_values = SaveValues(*graph);
-  if (!InitializePoses(graph, InitMethod::kChordal, error)) return false;
+  if (!InitializeWith(InitMethod::kChordal, landmarks_from_observations, graph,
+                      error)) {
+    return false;
+  }
   const double chordal_chi2 = graph->RobustChi2();
   // The better start of the two; the file's guess only when it has one.
   if (file_chi2 < chordal_chi2) {
@@ -253,7 +308,25 @@ int RunOptimizeCommand(const std::vector<std::string>& args) {
   GraphReadOptions read_options;
   read_options.repair_information = config.repair_information;
   GraphReadReport read_report;
-  if (!ReadPoseGraph(input, read_options, &graph, &read_report, &error)) {
+  const bool stereo_vo =
+      !FLAGS_stereo_calibration.empty() || !FLAGS_stereo_poses.empty();
+  if (stereo_vo) {
+    if (FLAGS_stereo_calibration.empty() || FLAGS_stereo_poses.empty()) {
+      std::cerr << "slam optimize: the stereo VO input needs both "
+                   "--stereo_calibration and --stereo_poses\n";
+      return 2;
+    }
+    StereoVoReport stereo_report;
+    if (!ReadStereoVo(input, FLAGS_stereo_calibration, FLAGS_stereo_poses,
+                      &graph, &stereo_report, &error)) {
+      std::cerr << "slam optimize: " << error << "\n";
+      return 1;
+    }
+    std::printf("stereo VO: %d camera poses, %d landmarks, %d measurements\n",
+                stereo_report.poses, stereo_report.landmarks,
+                stereo_report.measurements);
+  } else if (!ReadPoseGraph(input, read_options, &graph, &read_report,
+                            &error)) {
     std::cerr << "slam optimize: " << error << "\n";
     return 1;
   }
@@ -287,7 +360,23 @@ int RunOptimizeCommand(const std::vector<std::string>& args) {
   // Initialize.
   const auto init_start = std::chrono::steady_clock::now();
   std::string init_used;
-  if (!Initialize(config.init, &graph, &init_used, &error)) {
+  size_t num_points = 0;
+  for (const auto& [key, node] : graph.nodes()) {
+    num_points += key.kind == NodeKind::kPoint2 || key.kind == NodeKind::kPoint3;
+  }
+  // Landmarks the file gave no values for follow the poses.
+  const bool landmarks_from_observations =
+      num_points > 0 &&
+      read_report.landmarks_initialized == static_cast<int>(num_points);
+  if (num_points > 0) {
+    std::printf("landmarks: %zu (%s)\n", num_points,
+                landmarks_from_observations
+                    ? "initialized from their observations"
+                    : "values from the input");
+  }
+  const PixelErrorStats pixels_before = CameraPixelErrors(graph);
+  if (!Initialize(config.init, landmarks_from_observations, &graph, &init_used,
+                  &error)) {
     std::cerr << "slam optimize: initialization failed: " << error << "\n";
     return 1;
   }
@@ -304,6 +393,18 @@ int RunOptimizeCommand(const std::vector<std::string>& args) {
     return 1;
   }
   if (FLAGS_ceres_report) std::cout << summary.full_report << "\n";
+  if (!summary.linear_solver_reason.empty()) {
+    std::printf("linear solver choice: %s\n",
+                summary.linear_solver_reason.c_str());
+  }
+  const PixelErrorStats pixels_after = CameraPixelErrors(graph);
+  if (pixels_before.factors > 0) {
+    std::printf(
+        "reprojection RMS %.6g -> %.6g px over %d camera factors (%d with the "
+        "point behind the camera after)\n",
+        pixels_before.rms, pixels_after.rms, pixels_after.factors,
+        pixels_after.behind);
+  }
   std::printf(
       "solver: %s, linear solver %s (%s, ordering %s), gauge: %s\n",
       SolverKindName(config.optimizer.solver), summary.linear_solver.c_str(),
@@ -343,6 +444,24 @@ int RunOptimizeCommand(const std::vector<std::string>& args) {
     return 1;
   }
 
+  if (num_points > 0 && !FLAGS_plot.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(FLAGS_plot, ec);
+    const std::string path = FLAGS_plot + "/map.png";
+    if (ec || !WriteMapPlot(path,
+                            MapPlotFromGraph(graph, "optimized map: " +
+                                                        std::filesystem::path(
+                                                            input)
+                                                            .filename()
+                                                            .string()),
+                            &error)) {
+      std::cerr << "slam optimize: --plot: "
+                << (ec ? FLAGS_plot + ": " + ec.message() : error) << "\n";
+      return 1;
+    }
+    std::printf("wrote %s\n", path.c_str());
+  }
+
   // Write.
   const auto write_start = std::chrono::steady_clock::now();
   if (!FLAGS_o.empty() && !WritePoseGraph(FLAGS_o, graph, &error)) {
@@ -380,6 +499,11 @@ int RunOptimizeCommand(const std::vector<std::string>& args) {
         .Add("solve_seconds", summary.solve_seconds)
         .Add("write_seconds", write_seconds)
         .Add("total_seconds", total_seconds);
+    if (num_points > 0) report.Add("landmarks", num_points);
+    if (pixels_before.factors > 0) {
+      report.Add("reprojection_rms_before", pixels_before.rms)
+          .Add("reprojection_rms_after", pixels_after.rms);
+    }
     if (!marginals_json.empty()) report.Add("marginals", marginals_json);
     if (!evaluation.empty()) report.AddObjectEntries(evaluation);
     if (!WriteFileAtomically(FLAGS_report, report.ToString() + "\n",

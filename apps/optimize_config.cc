@@ -69,13 +69,15 @@ bool LoadOptimizeConfig(const std::string& path, OptimizeConfig* config,
   }
   const YAML::Node robust = node["robust"];
   if (robust) {
-    if (!CheckKnownKeys(robust, {"odometry", "loop_closure", "prior"}, path,
+    if (!CheckKnownKeys(robust, {"odometry", "loop_closure", "prior", "landmark"}, path,
                         error) ||
         !ReadKernel(robust, "odometry", path, &config->robust_odometry,
                     error) ||
         !ReadKernel(robust, "loop_closure", path, &config->robust_loop_closure,
                     error) ||
-        !ReadKernel(robust, "prior", path, &config->robust_prior, error)) {
+        !ReadKernel(robust, "prior", path, &config->robust_prior, error) ||
+        !ReadKernel(robust, "landmark", path, &config->robust_landmark,
+                    error)) {
       return false;
     }
   }
@@ -160,7 +162,8 @@ std::string OptimizeConfigToYaml(const OptimizeConfig& config) {
       << "  robust:\n"
       << "    odometry: " << config.robust_odometry.ToString() << "\n"
       << "    loop_closure: " << config.robust_loop_closure.ToString() << "\n"
-      << "    prior: " << config.robust_prior.ToString() << "\n";
+      << "    prior: " << config.robust_prior.ToString() << "\n"
+      << "    landmark: " << config.robust_landmark.ToString() << "\n";
   return out.str();
 }
 

@@ -9,7 +9,10 @@
 //     gradient_tolerance: 1e-10
 //     parameter_tolerance: 1e-10
 //     initial_trust_region_radius: 1e12
-//     linear_solver: auto   # auto | sparse_normal_cholesky | dense_qr | ...
+//     linear_solver: auto   # auto | sparse_normal_cholesky | sparse_schur |
+//                           # dense_schur | iterative_schur | dense_qr | ...
+//                           # (auto: sparse_schur with the landmarks
+//                           # eliminated first when there are landmarks)
 //     ordering: auto        # auto | amd | metis | nesdis | ceres
 //     sparse_library: auto  # auto | suite_sparse | eigen_sparse | cx_sparse
 //     num_threads: 2
@@ -19,6 +22,7 @@
 //       odometry: none      # between factors of consecutive ids
 //       loop_closure: none  # all other between factors
 //       prior: none
+//       landmark: none      # landmark and camera factors (pose-point)
 //
 // "auto" initialization: the chordal relaxation, unless the file's own guess
 // already has a lower chi2 (the better of the two starts, as in the reference
@@ -42,6 +46,7 @@ struct OptimizeConfig {
   RobustKernelSpec robust_odometry;
   RobustKernelSpec robust_loop_closure;
   RobustKernelSpec robust_prior;
+  RobustKernelSpec robust_landmark;
 };
 
 // Reads the `optimize:` section of the YAML file at `path` over *config.

@@ -48,6 +48,41 @@ bool HasPrior(const Graph& graph) {
   return false;
 }
 
+bool IsPoint(const Key& key) {
+  return key.kind == NodeKind::kPoint2 || key.kind == NodeKind::kPoint3;
+}
+
+// Landmark graphs for the Schur solvers: point nodes present and no factor
+// joining two points (the points must form an independent set).
+bool HasEliminablePoints(const Graph& graph) {
+  bool any = false;
+  for (const auto& [key, node] : graph.nodes()) any = any || IsPoint(key);
+  if (!any) return false;
+  for (const auto& [id, f] : graph.factors()) {
+    int points = 0;
+    for (const Key& k : f.keys) points += IsPoint(k) ? 1 : 0;
+    if (points > 1) return false;
+  }
+  return true;
+}
+
+bool IsSchur(ceres::LinearSolverType type) {
+  return type == ceres::SPARSE_SCHUR || type == ceres::DENSE_SCHUR ||
+         type == ceres::ITERATIVE_SCHUR;
+}
+
+// Elimination groups for the Schur solvers: all points first (group 0), then
+// everything else.
+void SetSchurOrdering(const Graph& graph,
+                      ceres::Solver::Options* solver_options) {
+  auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
+  for (const auto& [key, node] : graph.nodes()) {
+    ordering->AddElementToGroup(const_cast<double*>(node->value.data()),
+                                IsPoint(key) ? 0 : 1);
+  }
+  solver_options->linear_solver_ordering = ordering;
+}
+
 ceres::LinearSolverType LinearSolverFromName(const std::string& name,
                                              bool* ok) {
   *ok = true;
@@ -171,6 +206,31 @@ OptimizerSummary Optimize(Graph* graph, const OptimizerOptions& options,
         "unknown sparse library '" + options.sparse_library + "'";
     return summary;
   }
+  const bool landmarks = HasEliminablePoints(*graph);
+  if (options.linear_solver == "auto" && landmarks) {
+    // Eliminating the points pays when they hold most of the unknowns
+    // (bundle adjustment: KITTI stereo, 26 cameras and 3000+ points). With
+    // few landmarks seen from thousands of poses (Victoria Park: 151
+    // landmarks, 6969 poses) the reduced pose system fills in where a
+    // landmark links many poses, and sparse Cholesky on the whole system is
+    // about ten times faster per iteration (measured).
+    int point_dofs = 0, other_dofs = 0;
+    for (const auto& [key, node] : graph->nodes()) {
+      (IsPoint(key) ? point_dofs : other_dofs) += TangentSize(key.kind);
+    }
+    if (point_dofs >= other_dofs) {
+      solver_options.linear_solver_type = ceres::SPARSE_SCHUR;
+      summary.linear_solver_reason =
+          "auto: landmarks hold most unknowns, Schur complement";
+    } else {
+      summary.linear_solver_reason =
+          "auto: landmarks hold few unknowns, sparse Cholesky on all";
+    }
+  }
+  if (IsSchur(solver_options.linear_solver_type) && landmarks) {
+    SetSchurOrdering(*graph, &solver_options);
+    summary.ordering = "schur: points eliminated first";
+  }
   solver_options.max_num_iterations = options.max_iterations;
   solver_options.function_tolerance = options.function_tolerance;
   solver_options.gradient_tolerance = options.gradient_tolerance;
@@ -205,7 +265,7 @@ OptimizerSummary Optimize(Graph* graph, const OptimizerOptions& options,
   // (measured on the benchmark graphs: tori and spheres above, 2D graphs
   // and parking-garage below).
   constexpr double kSupernodalFlopsPerEntry = 150.0;
-  summary.ordering = "ceres";
+  if (summary.ordering.empty()) summary.ordering = "ceres";
   summary.sparse_library = options.sparse_library;
   if (sparse_cholesky && graph->NumNodes() > 1) {
     std::string ordering_error;

@@ -31,7 +31,11 @@ struct OptimizerOptions {
   double function_tolerance = 1e-8;
   double gradient_tolerance = 1e-10;
   double parameter_tolerance = 1e-10;
-  // "auto" picks sparse_normal_cholesky (SuiteSparse); also
+  // "auto" picks sparse_schur when the graph has landmark (point) nodes that
+  // no factor joins to each other and that hold at least half of the
+  // unknowns (bundle adjustment), with all points in the first elimination
+  // group (eliminated first), else sparse_normal_cholesky; any Schur solver
+  // gets that grouping on graphs with points. Also
   // "dense_qr", "dense_normal_cholesky", "sparse_schur", "dense_schur",
   // "iterative_schur", "cgnr".
   std::string linear_solver = "auto";
@@ -68,6 +72,7 @@ struct OptimizerSummary {
   bool usable = false;       // Result usable (converged or hit the limit).
   double solve_seconds = 0.0;
   std::string linear_solver;  // What was used.
+  std::string linear_solver_reason;  // Why, when "auto" chose by the graph.
   std::string ordering;       // Elimination ordering used.
   std::string sparse_library;  // Sparse linear algebra library used.
   std::string termination;    // Ceres' message.

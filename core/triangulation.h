@@ -33,6 +33,6 @@ bool TriangulateMidpoint(const Eigen::Vector3d &o1, const Eigen::Vector3d &d1,
                          const Eigen::Vector3d &o2, const Eigen::Vector3d &d2,
                          Eigen::Vector3d *point, double min_sin_angle = 1e-6);
 
-} // namespace slam
+}  // namespace slam
 
-#endif // SLAM_CORE_TRIANGULATION_H_
+#endif  // SLAM_CORE_TRIANGULATION_H_

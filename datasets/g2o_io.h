@@ -13,6 +13,36 @@
 //   PARAMS_SE3OFFSET offset_id x y z qx qy qz qw
 //   FIX id [id ...]
 //
+// Landmarks (one id space with the poses; factors/landmark_factors.h):
+//
+//   VERTEX_XY id x y                              (2D point)
+//   EDGE_SE2_XY pose point x y I11 I12 I22        (point in the robot frame)
+//   VERTEX_TRACKXYZ id x y z                      (3D point)
+//   EDGE_SE3_TRACKXYZ pose point offset_id x y z I11 I12 I13 I22 I23 I33
+//       (point in the frame of the sensor at PARAMS_SE3OFFSET offset_id on
+//       the pose, as g2o's EdgeSE3PointXYZ: e = (X S)^-1 l - z)
+//
+// and this project's tags for the factor kinds g2o has no tag for:
+//
+//   EDGE_SE2_RANGE_BEARING pose point range bearing I11 I12 I22
+//       (information over (range, bearing), factors/range_bearing_2d.h)
+//   PARAMS_STEREO id fx fy cx cy baseline
+//   EDGE_SE3_STEREO camera point param_id uL uR v I11 .. I33 (6 numbers)
+//   PARAMS_PINHOLE id fx fy cx cy k1 k2 p1 p2
+//   EDGE_SE3_PROJECT camera point param_id u v I11 I12 I22
+//       (camera pose = T_world_camera, x right, y down, z forward;
+//       factors/stereo_projection.h, factors/reprojection.h)
+//
+// PARAMS_* records may appear anywhere in the file (GTSAM's example puts the
+// offset after the edge using it); an edge naming an undeclared one, or two
+// records of one kind with the same id, is an error. Landmark vertices
+// without a VERTEX_XY / VERTEX_TRACKXYZ line are created and initialized
+// from their observations (factors/landmark_init.h). An id used both as a
+// pose and as a landmark is an error. The writer numbers the parameter
+// records in order of first use (equal records share one id) and writes
+// them first, then pose and landmark vertices, FIX lines, and all factors in
+// FactorId order: read -> write -> read reproduces every value bit for bit.
+//
 // Conventions and traps:
 // - Information matrices are given by their upper triangle, row-major. For
 //   SE(2) they are over (x, y, theta) of e = t2v(Z^-1 X_i^-1 X_j), exactly
@@ -46,9 +76,10 @@
 //   one edge twice): all are kept, in file order (FactorId order). An edge
 //   from a node to itself is an error.
 // - EDGE_SE3_PRIOR is accepted only with an identity PARAMS_SE3OFFSET (the
-//   writer emits "PARAMS_SE3OFFSET 0 0 0 0 0 0 0 1" when it writes one).
+//   writer emits "PARAMS_SE3OFFSET 0 0 0 0 0 0 0 1" when it writes one);
+//   EDGE_SE3_TRACKXYZ takes any offset.
 //   EDGE_SE2_PRIOR is read as an alias of g2o's EDGE_PRIOR_SE2.
-// - Unknown tags (landmarks, EQUIV, ...) are skipped with one warning per tag
+// - Unknown tags (EQUIV, ...) are skipped with one warning per tag
 //   giving the number of lines, in report->warnings (nothing is printed).
 // - Malformed input (bad or non-finite numbers, missing or extra fields,
 //   duplicate vertex ids, self-edges, unknown ids, information matrices that
@@ -86,6 +117,7 @@ struct GraphReadReport {
   int fixed = 0;               // Nodes fixed by FIX lines.
   int repaired_information = 0;
   bool initialized_from_edges = false;  // Some nodes had no VERTEX line.
+  int landmarks_initialized = 0;  // Points without vertex, set from edges.
   // E.g. "unknown tag 'EQUIV' (40 lines) skipped", once per tag.
   std::vector<std::string> warnings;
 };
@@ -101,17 +133,19 @@ bool ReadG2oFromText(const std::string& name, std::string_view text,
                      const GraphReadOptions& options, Graph* graph,
                      GraphReadReport* report, std::string* error);
 
-// Writes the graph's SE2/SE3 pose nodes (VERTEX lines, in key order), FIX
-// lines for the fixed ones, and its between/prior factors (in FactorId
-// order) in g2o format. Other nodes and factors are left out. Fails on a
+// Writes the graph's SE2/SE3 pose nodes (VERTEX lines, in key order), its
+// landmark nodes, FIX lines for the fixed ones, and its between/prior and
+// landmark/camera factors (in FactorId order) in g2o format. Other nodes and
+// factors are left out. Fails on a
 // graph with both SE(2) and SE(3) poses, non-finite numbers or malformed
 // pose factors. Atomic: writes PATH.tmp.XXXXXX then renames; on failure no
 // file is left. Numbers are printed with %.17g.
 bool WriteG2o(const std::string& path, const Graph& graph, std::string* error);
 
 // Picks the reader by content: the first recognised tag (VERTEX_SE2,
-// EDGE_SE2, VERTEX_SE3:QUAT, EDGE_SE3:QUAT, g2o prior edges -> g2o; VERTEX2,
-// EDGE2, VERTEX3, EDGE3 -> TORO), falling back to the extension (.graph ->
+// EDGE_SE2, VERTEX_SE3:QUAT, EDGE_SE3:QUAT, g2o prior edges, the g2o
+// landmark and PARAMS_ tags -> g2o; VERTEX2, EDGE2, VERTEX3, EDGE3, BR ->
+// TORO; ODOMETRY, LANDMARK -> iSAM, datasets/isam_io.h), falling back to the extension (.graph ->
 // TORO, anything else -> g2o).
 bool ReadPoseGraph(const std::string& path, const GraphReadOptions& options,
                    Graph* graph, GraphReadReport* report, std::string* error);

@@ -13,6 +13,8 @@
 #include "core/information.h"
 #include "core/initialization.h"
 #include "core/lie.h"
+#include "factors/landmark_factors.h"
+#include "factors/landmark_init.h"
 #include "factors/pose_factors.h"
 
 namespace slam::text {
@@ -229,6 +231,57 @@ bool UnitQuaternion(double x, double y, double z, double w,
   return std::isfinite(q->squaredNorm());
 }
 
+namespace {
+
+bool CollectLandmarks(const std::string& path, const Graph& graph,
+                      PoseGraphContents* contents, std::string* error) {
+  const NodeKind pose_kind =
+      contents->dimension == 3 ? NodeKind::kPose3 : NodeKind::kPose2;
+  const NodeKind point_kind =
+      contents->dimension == 3 ? NodeKind::kPoint3 : NodeKind::kPoint2;
+  for (const auto& [key, node] : graph.nodes()) {
+    if (key.kind != NodeKind::kPoint2 && key.kind != NodeKind::kPoint3) {
+      continue;
+    }
+    if (key.kind != point_kind || contents->dimension == 0) {
+      *error = path + ": landmark " + key.ToString() +
+               " does not match the dimension of the poses";
+      return false;
+    }
+    if (graph.HasNode(Key(pose_kind, key.id))) {
+      *error = path + ": landmark " + key.ToString() +
+               " has the id of a pose; poses and landmarks share one id "
+               "space in the file";
+      return false;
+    }
+    for (double v : node->value) {
+      if (!std::isfinite(v)) {
+        *error = path + ": node " + key.ToString() + " has a non-finite value";
+        return false;
+      }
+    }
+    contents->points.push_back(node.get());
+  }
+  for (const auto& [id, factor] : graph.factors()) {
+    if (!IsLandmarkFactor(factor.type)) continue;
+    const std::string name = std::string("factor ") + std::to_string(id) +
+                             " (" + FactorTypeName(factor.type) + ")";
+    Factor check;
+    std::string problem;
+    if (!RemakeLandmarkFactor(factor, &check, &problem) ||
+        factor.keys[0].kind != pose_kind ||
+        factor.keys[1].kind != point_kind) {
+      *error = path + ": " + name + " is malformed" +
+               (problem.empty() ? "" : ": " + problem);
+      return false;
+    }
+    contents->landmark_factors.push_back(&factor);
+  }
+  return true;
+}
+
+}  // namespace
+
 bool CollectPoseGraph(const std::string& path, const Graph& graph,
                       PoseGraphContents* contents, std::string* error) {
   *contents = PoseGraphContents();
@@ -285,7 +338,7 @@ bool CollectPoseGraph(const std::string& path, const Graph& graph,
     contents->has_prior = contents->has_prior || prior;
     contents->factors.push_back(&factor);
   }
-  return true;
+  return CollectLandmarks(path, graph, contents, error);
 }
 
 // ---------------------------------------------------------------------------
@@ -384,6 +437,13 @@ bool PoseGraphBuilder::CheckInformation(
   return true;
 }
 
+template bool PoseGraphBuilder::CheckInformation<2>(int64_t,
+                                                   Eigen::Matrix<double, 2, 2>*,
+                                                   std::string*);
+template bool PoseGraphBuilder::CheckInformation<3>(int64_t,
+                                                   Eigen::Matrix<double, 3, 3>*,
+                                                   std::string*);
+
 bool PoseGraphBuilder::AddBetweenSE2(int64_t line, int64_t i, int64_t j,
                                      double x, double y, double theta,
                                      const Eigen::Matrix3d& information,
@@ -474,6 +534,21 @@ bool PoseGraphBuilder::AddPriorSE3(
       error);
 }
 
+bool PoseGraphBuilder::AddVertexPoint(int64_t line, int64_t id,
+                                      const Eigen::VectorXd& p,
+                                      std::string* error) {
+  if (!SetDimension(line, static_cast<int>(p.size()), error)) return false;
+  const auto [it, inserted] = vertex_lines_.emplace(id, line);
+  if (!inserted) {
+    *error = LineError(line, "duplicate vertex id " + std::to_string(id) +
+                                 " (first defined at line " +
+                                 std::to_string(it->second) + ")");
+    return false;
+  }
+  points_.emplace_back(id, std::vector<double>(p.data(), p.data() + p.size()));
+  return true;
+}
+
 void PoseGraphBuilder::AddFix(int64_t line, int64_t id) {
   fixes_.emplace_back(line, id);
 }
@@ -510,14 +585,42 @@ bool PoseGraphBuilder::Finish(Graph* graph, GraphReadReport* report,
       return false;
     }
   }
+  for (const auto& [id, value] : points_) {
+    const Key key = dimension_ == 3 ? Point3Key(id) : Point2Key(id);
+    if (result.AddNode(key, value) == nullptr) {
+      *error = LineError(vertex_lines_.at(id),
+                         "cannot add vertex " + std::to_string(id));
+      return false;
+    }
+  }
   const bool has_vertices = !vertices_.empty();
+  std::set<Key> missing_points;
   const std::vector<double> identity =
       dimension_ == 3 ? std::vector<double>{0, 0, 0, 0, 0, 0, 1}
                       : std::vector<double>{0, 0, 0};
   std::set<Key> missing;
   for (PendingFactor& pending : factors_) {
     for (const Key& key : pending.factor.keys) {
+      const bool is_point =
+          key.kind == NodeKind::kPoint2 || key.kind == NodeKind::kPoint3;
+      // One id space: a pose id used as a landmark, or the reverse.
+      const Key other = is_point ? MakeKey(key.id)
+                                 : (dimension_ == 3 ? Point3Key(key.id)
+                                                    : Point2Key(key.id));
+      if (result.HasNode(other) ||
+          (!result.HasNode(key) && vertex_lines_.count(key.id) > 0)) {
+        *error = LineError(pending.line,
+                           "id " + std::to_string(key.id) + " is used as " +
+                               (is_point ? "a landmark" : "a pose") +
+                               " and as " + (is_point ? "a pose" : "a landmark"));
+        return false;
+      }
       if (result.HasNode(key)) continue;
+      if (is_point) {
+        result.AddNode(key, std::vector<double>(dimension_ == 3 ? 3 : 2, 0.0));
+        missing_points.insert(key);
+        continue;
+      }
       if (has_vertices && !options_.allow_missing_vertices) {
         *error = LineError(pending.line,
                            "unknown vertex id " + std::to_string(key.id));
@@ -534,6 +637,9 @@ bool PoseGraphBuilder::Finish(Graph* graph, GraphReadReport* report,
   int fixed = 0;
   for (const auto& [line, id] : fixes_) {
     Node* node = dimension_ == 0 ? nullptr : result.FindNode(MakeKey(id));
+    if (node == nullptr && dimension_ != 0) {
+      node = result.FindNode(dimension_ == 3 ? Point3Key(id) : Point2Key(id));
+    }
     if (node == nullptr) {
       *error =
           LineError(line, "FIX of unknown vertex id " + std::to_string(id));
@@ -551,8 +657,17 @@ bool PoseGraphBuilder::Finish(Graph* graph, GraphReadReport* report,
       return false;
     }
   }
+  if (!missing_points.empty()) {
+    const LandmarkInitReport init = InitializeLandmarks(&result, &missing_points);
+    if (init.failed > 0) {
+      *error = name_ + ": cannot initialize " + std::to_string(init.failed) +
+               " landmark(s) from their observations";
+      return false;
+    }
+  }
   if (report != nullptr) {
-    report->vertices = static_cast<int>(vertices_.size());
+    report->vertices = static_cast<int>(vertices_.size() + points_.size());
+    report->landmarks_initialized = static_cast<int>(missing_points.size());
     report->edges = edges_;
     report->fixed = fixed;
     report->repaired_information = repaired_;

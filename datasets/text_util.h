@@ -99,6 +99,12 @@ struct PoseGraphContents {
   std::vector<const Node*> nodes;
   std::vector<const Factor*> factors;
   bool has_prior = false;
+  // Landmark point nodes (kPoint2 in 2D, kPoint3 in 3D) in key order and the
+  // landmark/camera factors (factors/landmark_factors.h) in FactorId order,
+  // checked like the rest. Poses and points share one id space in the files:
+  // a point whose id is also a pose id is an error.
+  std::vector<const Node*> points;
+  std::vector<const Factor*> landmark_factors;
 };
 bool CollectPoseGraph(const std::string& path, const Graph& graph,
                       PoseGraphContents* contents, std::string* error);
@@ -130,6 +136,33 @@ class PoseGraphBuilder {
                    const Eigen::Vector4d& q_xyzw,
                    const Eigen::Matrix<double, 6, 6>& information,
                    std::string* error);
+  // Landmark vertex (2 values: Point2, 3: Point3); shares the id space of
+  // the pose vertices.
+  bool AddVertexPoint(int64_t line, int64_t id, const Eigen::VectorXd& p,
+                      std::string* error);
+  // A landmark or camera factor from pose `pose_id` to point `point_id` in
+  // `dimension` (2 or 3); make(pose_key, point_key, &factor, &problem)
+  // builds it (factors/landmark_factors.h). Points without a vertex line are
+  // created and initialized from their observations in Finish
+  // (factors/landmark_init.h), whatever allow_missing_vertices says.
+  template <typename Make>
+  bool AddLandmarkFactor(int64_t line, int dimension, int64_t pose_id,
+                         int64_t point_id, Make make, std::string* error) {
+    ++edges_;
+    if (!SetDimension(line, dimension, error)) return false;
+    const Key pose = MakeKey(pose_id);
+    const Key point = dimension == 3 ? Point3Key(point_id) : Point2Key(point_id);
+    return QueueFactor(
+        line,
+        [&](Factor* factor, std::string* problem) {
+          return make(pose, point, factor, problem);
+        },
+        error);
+  }
+  // Repairs or rejects an information matrix that is not positive definite.
+  template <int N>
+  bool CheckInformation(int64_t line, Eigen::Matrix<double, N, N>* information,
+                        std::string* error);
   // FIX of one id; resolved in Finish.
   void AddFix(int64_t line, int64_t id);
   // A line whose tag the reader does not know.
@@ -154,10 +187,6 @@ class PoseGraphBuilder {
   bool CheckEdgeIds(int64_t line, int64_t i, int64_t j, std::string* error);
   bool AddVertex(int64_t line, int64_t id, std::vector<double> value,
                  std::string* error);
-  // Repairs or rejects an information matrix that is not positive definite.
-  template <int N>
-  bool CheckInformation(int64_t line, Eigen::Matrix<double, N, N>* information,
-                        std::string* error);
   Key MakeKey(int64_t id) const;
   // Queues the factor built by make(&factor, &problem); a failure becomes
   // "NAME:LINE: problem".
@@ -178,6 +207,7 @@ class PoseGraphBuilder {
   int dimension_ = 0;  // 0 until the first pose record.
   int64_t dimension_line_ = 0;
   std::vector<std::pair<int64_t, std::vector<double>>> vertices_;
+  std::vector<std::pair<int64_t, std::vector<double>>> points_;
   std::unordered_map<int64_t, int64_t> vertex_lines_;  // id -> line.
   std::vector<PendingFactor> factors_;
   std::vector<std::pair<int64_t, int64_t>> fixes_;             // (line, id).

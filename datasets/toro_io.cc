@@ -10,6 +10,7 @@
 
 #include "datasets/atomic_file.h"
 #include "datasets/text_util.h"
+#include "factors/landmark_factors.h"
 
 namespace slam {
 namespace {
@@ -108,6 +109,29 @@ bool ParseLine(const std::vector<std::string_view>& tokens, int64_t line,
         Coefficients(QuaternionFromRpy(v[3], v[4], v[5])), information,
         error);
   }
+  if (tag == "BR") {
+    // BR pose landmark bearing range sigma_bearing sigma_range (GTSAM's
+    // example.graph).
+    if (!CheckFieldCount(tokens, 6, problem) ||
+        !ParseId(tokens, 1, &i, problem) ||
+        !ParseId(tokens, 2, &j, problem) ||
+        !ParseDoubles(tokens, 3, 4, v, problem)) {
+      return false;
+    }
+    if (!(v[2] > 0.0) || !(v[3] > 0.0)) {
+      *problem = "BR standard deviations must be positive";
+      return false;
+    }
+    Eigen::Matrix2d information = Eigen::Matrix2d::Zero();
+    information(0, 0) = 1.0 / (v[3] * v[3]);  // Range.
+    information(1, 1) = 1.0 / (v[2] * v[2]);  // Bearing.
+    return builder->AddLandmarkFactor(
+        line, 2, i, j,
+        [&](const Key& pose, const Key& point, Factor* f, std::string* p) {
+          return MakeRangeBearing2(pose, point, v[1], v[0], information, f, p);
+        },
+        error);
+  }
   if (tag == "FIX") {
     if (!CheckMinFieldCount(tokens, 1, problem)) return false;
     for (size_t k = 1; k < tokens.size(); ++k) {
@@ -172,6 +196,15 @@ bool WriteToro(const std::string& path, const Graph& graph,
                " is a prior, which the TORO format cannot hold";
       return false;
     }
+    if (IsLandmarkFactor(factor.type) &&
+        (factor.type != FactorType::kRangeBearing2 ||
+         factor.information(0, 1) != 0.0)) {
+      *error = path + ": factor " + std::to_string(id) + " (" +
+               FactorTypeName(factor.type) +
+               ") has no TORO record (BR holds range-bearing factors with "
+               "independent range and bearing noise only)";
+      return false;
+    }
   }
   const bool is3 = contents.dimension == 3;
   std::string out;
@@ -222,6 +255,18 @@ bool WriteToro(const std::string& path, const Graph& graph,
                            m(2, 2), m(0, 2), m(1, 2)}) {
         AppendValue(value, &out);
       }
+    }
+    out.push_back('\n');
+  }
+  for (const Factor* factor : contents.landmark_factors) {
+    const Eigen::VectorXd& z = factor->measurement;
+    out += "BR ";
+    text::AppendInt(factor->keys[0].id, &out);
+    out.push_back(' ');
+    text::AppendInt(factor->keys[1].id, &out);
+    for (double value : {z[1], z[0], 1.0 / std::sqrt(factor->information(1, 1)),
+                         1.0 / std::sqrt(factor->information(0, 0))}) {
+      AppendValue(value, &out);
     }
     out.push_back('\n');
   }

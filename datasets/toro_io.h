@@ -28,9 +28,17 @@
 //   written and read back reproduces rotations to about 1e-15 (Euler angles
 //   are not an exact encoding of a quaternion), everything else bit for bit.
 //   2D files round trip bit for bit.
-// - EQUIV (vertex equivalence, gtsam_w100.graph) and BR (bearing-range
-//   landmark measurements, gtsam_example.graph) lines, like any unknown tag,
-//   are skipped with one warning per tag.
+// - BR pose landmark bearing range sigma_bearing sigma_range (GTSAM's
+//   example.graph; field order as GTSAM's dataset.cpp reads it) becomes a
+//   range-bearing factor (factors/range_bearing_2d.h) to Point2Key(landmark)
+//   with information diag(1/sigma_range^2, 1/sigma_bearing^2); landmark ids
+//   share the id space of the poses. The file holds no landmark values:
+//   each landmark is initialized from its first observation. The writer
+//   writes range-bearing factors with diagonal information as BR lines (a
+//   round trip reproduces the sigmas to rounding; landmark values are not
+//   written) and rejects other landmark factors.
+// - EQUIV (vertex equivalence, gtsam_w100.graph) lines, like any unknown
+//   tag, are skipped with one warning per tag.
 // - TORO has no fixed-node record; the writer adds "FIX id" lines (which TORO
 //   and HOG-Man ignore as unknown lines) and the reader applies them, so that
 //   fixed flags survive a round trip. TORO has no prior edges: writing a graph

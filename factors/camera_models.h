@@ -33,7 +33,7 @@ struct StereoCalibration {
   double fy = 1.0;
   double cx = 0.0;
   double cy = 0.0;
-  double baseline = 1.0; // Metres, right camera at +baseline along x.
+  double baseline = 1.0;  // Metres, right camera at +baseline along x.
   bool operator==(const StereoCalibration &o) const {
     return fx == o.fx && fy == o.fy && cx == o.cx && cy == o.cy &&
            baseline == o.baseline;
@@ -45,9 +45,9 @@ struct PinholeCalibration {
   double fy = 1.0;
   double cx = 0.0;
   double cy = 0.0;
-  double k1 = 0.0; // Radial.
+  double k1 = 0.0;  // Radial.
   double k2 = 0.0;
-  double p1 = 0.0; // Tangential.
+  double p1 = 0.0;  // Tangential.
   double p2 = 0.0;
   bool operator==(const PinholeCalibration &o) const {
     return fx == o.fx && fy == o.fy && cx == o.cx && cy == o.cy && k1 == o.k1 &&
@@ -73,8 +73,7 @@ Eigen::Matrix<T, 3, 1> WorldToCamera(const T *const camera,
 template <typename T>
 bool ProjectStereo(const StereoCalibration &c, const Eigen::Matrix<T, 3, 1> &p,
                    Eigen::Matrix<T, 3, 1> *uv) {
-  if (!(p.z() > T(kMinDepth)))
-    return false;
+  if (!(p.z() > T(kMinDepth))) return false;
   const T inv_z = T(1.0) / p.z();
   (*uv)[0] = T(c.fx) * p.x() * inv_z + T(c.cx);
   (*uv)[1] = T(c.fx) * (p.x() - T(c.baseline)) * inv_z + T(c.cx);
@@ -101,8 +100,7 @@ template <typename T>
 bool ProjectPinhole(const PinholeCalibration &c,
                     const Eigen::Matrix<T, 3, 1> &p,
                     Eigen::Matrix<T, 2, 1> *uv) {
-  if (!(p.z() > T(kMinDepth)))
-    return false;
+  if (!(p.z() > T(kMinDepth))) return false;
   const T inv_z = T(1.0) / p.z();
   const Eigen::Matrix<T, 2, 1> d =
       DistortRadTan(c, Eigen::Matrix<T, 2, 1>(p.x() * inv_z, p.y() * inv_z));
@@ -124,14 +122,13 @@ inline bool UnprojectPinhole(const PinholeCalibration &c,
   }
   for (int it = 0; it < 100; ++it) {
     const Eigen::Vector2d err = DistortRadTan(c, x) - d;
-    if (err.norm() < 1e-14)
-      break;
+    if (err.norm() < 1e-14) break;
     x -= err;
   }
   *n = x;
   return (DistortRadTan(c, x) - d).norm() < 1e-9;
 }
 
-} // namespace slam
+}  // namespace slam
 
-#endif // SLAM_FACTORS_CAMERA_MODELS_H_
+#endif  // SLAM_FACTORS_CAMERA_MODELS_H_

@@ -46,7 +46,7 @@ bool CheckCamera(double fx, double fy, double extra, bool extra_positive,
   return true;
 }
 
-} // namespace
+}  // namespace
 
 bool MakeRangeBearing2(const Key &pose, const Key &point, double range,
                        double bearing, const Eigen::Matrix2d &information,
@@ -150,20 +150,23 @@ bool MakeReprojection(const Key &camera, const Key &point,
 
 bool IsLandmarkFactor(FactorType type) {
   switch (type) {
-  case FactorType::kRangeBearing2:
-  case FactorType::kRelativePoint2:
-  case FactorType::kRelativePoint3:
-  case FactorType::kStereo:
-  case FactorType::kReprojection:
-    return true;
-  default:
-    return false;
+    case FactorType::kRangeBearing2:
+    case FactorType::kRelativePoint2:
+    case FactorType::kRelativePoint3:
+    case FactorType::kStereo:
+    case FactorType::kReprojection:
+      return true;
+    default:
+      return false;
   }
 }
 
 Pose3 SensorOffsetOf(const Factor &factor) {
   const Eigen::VectorXd &m = factor.measurement;
-  return Pose3(m.segment<3>(3), Eigen::Quaterniond(m[9], m[6], m[7], m[8]));
+  Pose3 offset;  // Not Pose3(t, q): it would renormalize (bits may move).
+  offset.t = m.segment<3>(3);
+  offset.q = Eigen::Quaterniond(m[9], m[6], m[7], m[8]);
+  return offset;
 }
 
 StereoCalibration StereoCalibrationOf(const Factor &factor) {
@@ -209,32 +212,64 @@ bool RemakeLandmarkFactor(const Factor &in, Factor *out, std::string *error) {
   }
   bool ok = false;
   switch (in.type) {
-  case FactorType::kRangeBearing2:
-    ok = MakeRangeBearing2(in.keys[0], in.keys[1], m[0], m[1], in.information,
-                           out, error);
-    break;
-  case FactorType::kRelativePoint2:
-    ok = MakeRelativePoint2(in.keys[0], in.keys[1], m.head<2>(), in.information,
-                            out, error);
-    break;
-  case FactorType::kRelativePoint3:
-    ok = MakeRelativePoint3(in.keys[0], in.keys[1], m.head<3>(),
-                            SensorOffsetOf(in), in.information, out, error);
-    break;
-  case FactorType::kStereo:
-    ok = MakeStereo(in.keys[0], in.keys[1], StereoCalibrationOf(in),
-                    m.head<3>(), in.information, out, error);
-    break;
-  case FactorType::kReprojection:
-    ok = MakeReprojection(in.keys[0], in.keys[1], PinholeCalibrationOf(in),
-                          m.head<2>(), in.information, out, error);
-    break;
-  default:
-    break;
+    case FactorType::kRangeBearing2:
+      ok = MakeRangeBearing2(in.keys[0], in.keys[1], m[0], m[1], in.information,
+                             out, error);
+      break;
+    case FactorType::kRelativePoint2:
+      ok = MakeRelativePoint2(in.keys[0], in.keys[1], m.head<2>(),
+                              in.information, out, error);
+      break;
+    case FactorType::kRelativePoint3:
+      ok = MakeRelativePoint3(in.keys[0], in.keys[1], m.head<3>(),
+                              SensorOffsetOf(in), in.information, out, error);
+      break;
+    case FactorType::kStereo:
+      ok = MakeStereo(in.keys[0], in.keys[1], StereoCalibrationOf(in),
+                      m.head<3>(), in.information, out, error);
+      break;
+    case FactorType::kReprojection:
+      ok = MakeReprojection(in.keys[0], in.keys[1], PinholeCalibrationOf(in),
+                            m.head<2>(), in.information, out, error);
+      break;
+    default:
+      break;
   }
-  if (ok)
-    out->loss = in.loss;
+  if (ok) out->loss = in.loss;
   return ok;
 }
 
-} // namespace slam
+PixelErrorStats CameraPixelErrors(const Graph &graph) {
+  PixelErrorStats stats;
+  double sum = 0.0;
+  for (const auto &[id, f] : graph.factors()) {
+    if (f.type != FactorType::kStereo && f.type != FactorType::kReprojection) {
+      continue;
+    }
+    const double *camera = graph.FindNode(f.keys[0])->value.data();
+    const double *point = graph.FindNode(f.keys[1])->value.data();
+    const Eigen::Vector3d p = WorldToCamera(camera, point);
+    ++stats.factors;
+    if (f.type == FactorType::kStereo) {
+      Eigen::Vector3d uv;
+      if (!ProjectStereo(StereoCalibrationOf(f), p, &uv)) {
+        ++stats.behind;
+        continue;
+      }
+      sum += (uv - f.measurement.head<3>()).squaredNorm();
+      stats.coordinates += 3;
+    } else {
+      Eigen::Vector2d uv;
+      if (!ProjectPinhole(PinholeCalibrationOf(f), p, &uv)) {
+        ++stats.behind;
+        continue;
+      }
+      sum += (uv - f.measurement.head<2>()).squaredNorm();
+      stats.coordinates += 2;
+    }
+  }
+  if (stats.coordinates > 0) stats.rms = std::sqrt(sum / stats.coordinates);
+  return stats;
+}
+
+}  // namespace slam

@@ -17,9 +17,8 @@
 #ifndef SLAM_FACTORS_LANDMARK_FACTORS_H_
 #define SLAM_FACTORS_LANDMARK_FACTORS_H_
 
-#include <string>
-
 #include <Eigen/Core>
+#include <string>
 
 #include "core/graph.h"
 #include "core/keys.h"
@@ -63,10 +62,21 @@ bool IsLandmarkFactor(FactorType type);
 
 // Parts of a factor's measurement (layouts above; the factor must be of the
 // matching type).
-Pose3 SensorOffsetOf(const Factor &factor);                  // kRelativePoint3.
-StereoCalibration StereoCalibrationOf(const Factor &factor); // kStereo.
-PinholeCalibration PinholeCalibrationOf(const Factor &factor); // kReprojection.
+Pose3 SensorOffsetOf(const Factor &factor);  // kRelativePoint3.
+StereoCalibration StereoCalibrationOf(const Factor &factor);  // kStereo.
+PinholeCalibration PinholeCalibrationOf(
+    const Factor &factor);  // kReprojection.
 
-} // namespace slam
+// Raw (not whitened) pixel errors of the camera factors (kStereo: uL, uR, v;
+// kReprojection: u, v) at the graph's current values.
+struct PixelErrorStats {
+  int factors = 0;      // Camera factors evaluated.
+  int coordinates = 0;  // Pixel coordinates summed over.
+  int behind = 0;       // Factors whose point is behind the camera (left out).
+  double rms = 0.0;     // sqrt(sum e^2 / coordinates), pixels.
+};
+PixelErrorStats CameraPixelErrors(const Graph &graph);
 
-#endif // SLAM_FACTORS_LANDMARK_FACTORS_H_
+}  // namespace slam
+
+#endif  // SLAM_FACTORS_LANDMARK_FACTORS_H_

@@ -32,45 +32,44 @@ bool PlacePoint(const Graph &graph, const std::vector<const Factor *> &obs,
     const Node &pose = *graph.FindNode(f->keys[0]);
     const Eigen::VectorXd &m = f->measurement;
     switch (f->type) {
-    case FactorType::kRangeBearing2: {
-      const Eigen::Vector2d p = InvertRangeBearing(NodePose2(pose), m[0], m[1]);
-      *value = {p.x(), p.y()};
-      return true;
-    }
-    case FactorType::kRelativePoint2: {
-      const Pose2 x = NodePose2(pose);
-      const Eigen::Vector2d p = x.t + RotationMatrix2D(x.theta) * m.head<2>();
-      *value = {p.x(), p.y()};
-      return true;
-    }
-    case FactorType::kRelativePoint3: {
-      const Eigen::Vector3d p =
-          (NodePose3(pose) * SensorOffsetOf(*f)) * Eigen::Vector3d(m.head<3>());
-      *value = {p.x(), p.y(), p.z()};
-      return true;
-    }
-    case FactorType::kStereo: {
-      const StereoCalibration c = StereoCalibrationOf(*f);
-      Eigen::Vector3d p;
-      if (TriangulateStereo(NodePose3(pose), c.fx, c.fy, c.cx, c.cy, c.baseline,
-                            m.head<3>(), &p)) {
+      case FactorType::kRangeBearing2: {
+        const Eigen::Vector2d p =
+            InvertRangeBearing(NodePose2(pose), m[0], m[1]);
+        *value = {p.x(), p.y()};
+        return true;
+      }
+      case FactorType::kRelativePoint2: {
+        const Pose2 x = NodePose2(pose);
+        const Eigen::Vector2d p = x.t + RotationMatrix2D(x.theta) * m.head<2>();
+        *value = {p.x(), p.y()};
+        return true;
+      }
+      case FactorType::kRelativePoint3: {
+        const Eigen::Vector3d p = (NodePose3(pose) * SensorOffsetOf(*f)) *
+                                  Eigen::Vector3d(m.head<3>());
         *value = {p.x(), p.y(), p.z()};
         return true;
       }
-      break;
-    }
-    case FactorType::kReprojection: {
-      Eigen::Vector3d o, d;
-      if (ObservationRay(graph, *f, &o, &d))
-        rays.emplace_back(o, d);
-      break;
-    }
-    default:
-      break;
+      case FactorType::kStereo: {
+        const StereoCalibration c = StereoCalibrationOf(*f);
+        Eigen::Vector3d p;
+        if (TriangulateStereo(NodePose3(pose), c.fx, c.fy, c.cx, c.cy,
+                              c.baseline, m.head<3>(), &p)) {
+          *value = {p.x(), p.y(), p.z()};
+          return true;
+        }
+        break;
+      }
+      case FactorType::kReprojection: {
+        Eigen::Vector3d o, d;
+        if (ObservationRay(graph, *f, &o, &d)) rays.emplace_back(o, d);
+        break;
+      }
+      default:
+        break;
     }
   }
-  if (rays.empty())
-    return false;
+  if (rays.empty()) return false;
   const auto &[o1, d1] = rays.front();
   double best_cos = 1.0;
   Eigen::Vector3d best;
@@ -93,18 +92,16 @@ bool PlacePoint(const Graph &graph, const std::vector<const Factor *> &obs,
   return true;
 }
 
-} // namespace
+}  // namespace
 
 LandmarkInitReport InitializeLandmarks(Graph *graph,
                                        const std::set<Key> *only) {
   LandmarkInitReport report;
   std::map<Key, std::vector<const Factor *>> observations;
   for (const auto &[id, f] : graph->factors()) {
-    if (!IsLandmarkFactor(f.type) || f.keys.size() != 2)
-      continue;
+    if (!IsLandmarkFactor(f.type) || f.keys.size() != 2) continue;
     const Key &point = f.keys[1];
-    if (only != nullptr && only->count(point) == 0)
-      continue;
+    if (only != nullptr && only->count(point) == 0) continue;
     observations[point].push_back(&f);
   }
   std::vector<double> value;
@@ -118,10 +115,9 @@ LandmarkInitReport InitializeLandmarks(Graph *graph,
     }
     std::copy(value.begin(), value.end(), node->value.begin());
     ++report.initialized;
-    if (weak)
-      ++report.weak;
+    if (weak) ++report.weak;
   }
   return report;
 }
 
-} // namespace slam
+}  // namespace slam

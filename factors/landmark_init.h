@@ -21,15 +21,15 @@
 namespace slam {
 
 struct LandmarkInitReport {
-  int initialized = 0; // Points set from their observations.
-  int weak = 0;        // Of those, monocular points with one usable ray.
-  int failed = 0;      // Observed points no observation could place.
+  int initialized = 0;  // Points set from their observations.
+  int weak = 0;         // Of those, monocular points with one usable ray.
+  int failed = 0;       // Observed points no observation could place.
 };
 
 // Initializes the point nodes in `only` (all kPoint2/kPoint3 nodes if null).
 LandmarkInitReport InitializeLandmarks(Graph *graph,
                                        const std::set<Key> *only = nullptr);
 
-} // namespace slam
+}  // namespace slam
 
-#endif // SLAM_FACTORS_LANDMARK_INIT_H_
+#endif  // SLAM_FACTORS_LANDMARK_INIT_H_

@@ -14,9 +14,8 @@
 #ifndef SLAM_FACTORS_RANGE_BEARING_2D_H_
 #define SLAM_FACTORS_RANGE_BEARING_2D_H_
 
-#include <cmath>
-
 #include <Eigen/Core>
+#include <cmath>
 
 #include "ceres/autodiff_cost_function.h"
 #include "core/lie.h"
@@ -24,7 +23,7 @@
 namespace slam {
 
 class RangeBearing2Factor {
-public:
+ public:
   RangeBearing2Factor(double range, double bearing,
                       const Eigen::Matrix2d &sqrt_information)
       : range_(range), bearing_(bearing), sqrt_information_(sqrt_information) {}
@@ -37,8 +36,7 @@ public:
         RotationMatrix2D(x[2]).transpose() *
         Eigen::Matrix<T, 2, 1>(l[0] - x[0], l[1] - x[1]);
     const T range_sq = d.squaredNorm();
-    if (!(range_sq > T(1e-18)))
-      return false;
+    if (!(range_sq > T(1e-18))) return false;
     Eigen::Matrix<T, 2, 1> e;
     e[0] = sqrt(range_sq) - T(range_);
     e[1] = NormalizeAngle(atan2(d.y(), d.x()) - T(bearing_));
@@ -53,12 +51,12 @@ public:
         new RangeBearing2Factor(range, bearing, sqrt_information));
   }
 
-private:
+ private:
   double range_;
   double bearing_;
   Eigen::Matrix2d sqrt_information_;
 };
 
-} // namespace slam
+}  // namespace slam
 
-#endif // SLAM_FACTORS_RANGE_BEARING_2D_H_
+#endif  // SLAM_FACTORS_RANGE_BEARING_2D_H_

@@ -18,7 +18,7 @@
 namespace slam {
 
 class RelativePoint2Factor {
-public:
+ public:
   RelativePoint2Factor(const Eigen::Vector2d &measurement,
                        const Eigen::Matrix2d &sqrt_information)
       : measurement_(measurement), sqrt_information_(sqrt_information) {}
@@ -40,11 +40,11 @@ public:
         new RelativePoint2Factor(measurement, sqrt_information));
   }
 
-private:
+ private:
   Eigen::Vector2d measurement_;
   Eigen::Matrix2d sqrt_information_;
 };
 
-} // namespace slam
+}  // namespace slam
 
-#endif // SLAM_FACTORS_RELATIVE_POINT2_H_
+#endif  // SLAM_FACTORS_RELATIVE_POINT2_H_

@@ -21,10 +21,11 @@
 namespace slam {
 
 class RelativePoint3Factor {
-public:
+ public:
   RelativePoint3Factor(const Eigen::Vector3d &measurement, const Pose3 &offset,
                        const Eigen::Matrix3d &sqrt_information)
-      : measurement_(measurement), offset_t_(offset.t),
+      : measurement_(measurement),
+        offset_t_(offset.t),
         offset_q_inv_(offset.q.conjugate()),
         sqrt_information_(sqrt_information) {}
 
@@ -49,13 +50,13 @@ public:
         new RelativePoint3Factor(measurement, offset, sqrt_information));
   }
 
-private:
+ private:
   Eigen::Vector3d measurement_;
   Eigen::Vector3d offset_t_;
   Eigen::Quaterniond offset_q_inv_;
   Eigen::Matrix3d sqrt_information_;
 };
 
-} // namespace slam
+}  // namespace slam
 
-#endif // SLAM_FACTORS_RELATIVE_POINT3_H_
+#endif  // SLAM_FACTORS_RELATIVE_POINT3_H_

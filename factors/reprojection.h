@@ -21,11 +21,12 @@
 namespace slam {
 
 class ReprojectionFactor {
-public:
+ public:
   ReprojectionFactor(const PinholeCalibration &calibration,
                      const Eigen::Vector2d &measurement,
                      const Eigen::Matrix2d &sqrt_information)
-      : calibration_(calibration), measurement_(measurement),
+      : calibration_(calibration),
+        measurement_(measurement),
         sqrt_information_(sqrt_information) {}
 
   template <typename T>
@@ -47,12 +48,12 @@ public:
         new ReprojectionFactor(calibration, measurement, sqrt_information));
   }
 
-private:
+ private:
   PinholeCalibration calibration_;
   Eigen::Vector2d measurement_;
   Eigen::Matrix2d sqrt_information_;
 };
 
-} // namespace slam
+}  // namespace slam
 
-#endif // SLAM_FACTORS_REPROJECTION_H_
+#endif  // SLAM_FACTORS_REPROJECTION_H_

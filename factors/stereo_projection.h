@@ -21,11 +21,12 @@
 namespace slam {
 
 class StereoProjectionFactor {
-public:
+ public:
   StereoProjectionFactor(const StereoCalibration &calibration,
                          const Eigen::Vector3d &measurement,
                          const Eigen::Matrix3d &sqrt_information)
-      : calibration_(calibration), measurement_(measurement),
+      : calibration_(calibration),
+        measurement_(measurement),
         sqrt_information_(sqrt_information) {}
 
   template <typename T>
@@ -47,12 +48,12 @@ public:
         new StereoProjectionFactor(calibration, measurement, sqrt_information));
   }
 
-private:
+ private:
   StereoCalibration calibration_;
   Eigen::Vector3d measurement_;
   Eigen::Matrix3d sqrt_information_;
 };
 
-} // namespace slam
+}  // namespace slam
 
-#endif // SLAM_FACTORS_STEREO_PROJECTION_H_
+#endif  // SLAM_FACTORS_STEREO_PROJECTION_H_

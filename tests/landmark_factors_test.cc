@@ -8,23 +8,23 @@
 //     explicit projection formulas), whitened so that |r|^2 = e^T Omega e;
 //   * builders' bookkeeping, measurement layouts, rejection of bad input;
 //   * the initialization pass puts points where the measurements say.
+#include "factors/landmark_factors.h"
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
-#include <Eigen/Geometry>
 
 #include "ceres/gradient_checker.h"
 #include "core/graph.h"
 #include "core/lie.h"
 #include "core/manifolds.h"
 #include "factors/camera_models.h"
-#include "factors/landmark_factors.h"
 #include "factors/landmark_init.h"
-#include "tests/test_random.h"
 #include "gtest/gtest.h"
+#include "tests/test_random.h"
 
 namespace slam {
 namespace {
@@ -392,8 +392,7 @@ TEST(LandmarkFactorsTest, InitializationPlacesPointsFromObservations) {
     graph.AddNode(Pose3Key(0), Pose3Value(c0));
     graph.AddNode(Pose3Key(1), Pose3Value(c1));
     const Eigen::Vector3d l = c0 * Eigen::Vector3d(0.5, -0.3, 9.0);
-    for (int k = 1; k <= 3; ++k)
-      graph.AddNode(Point3Key(k), {0.0, 0.0, 0.0});
+    for (int k = 1; k <= 3; ++k) graph.AddNode(Point3Key(k), {0.0, 0.0, 0.0});
     std::string error;
     Factor rel, st, m0, m1;
     const Pose3 offset = rng.RandomPose3(0.3);
@@ -428,5 +427,5 @@ TEST(LandmarkFactorsTest, InitializationPlacesPointsFromObservations) {
   }
 }
 
-} // namespace
-} // namespace slam
+}  // namespace
+}  // namespace slam

@@ -1,13 +1,13 @@
 // Tests of core/triangulation.h against points with a known position.
-#include <cmath>
+#include "core/triangulation.h"
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <cmath>
 
 #include "core/lie.h"
-#include "core/triangulation.h"
-#include "tests/test_random.h"
 #include "gtest/gtest.h"
+#include "tests/test_random.h"
 
 namespace slam {
 namespace {
@@ -81,5 +81,5 @@ TEST(TriangulationTest, MidpointOfTwoRays) {
       Eigen::Vector3d(5, -3, 2), Eigen::Vector3d(0, -1, 0), &p));
 }
 
-} // namespace
-} // namespace slam
+}  // namespace
+}  // namespace slam

@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "apps/eval_report.h"
+#include "apps/map_plot.h"
 
 // The module's entry point, looked up by name (apps/plot_module.h).
 extern "C" bool SlamWriteEvalPlots(const std::string& dir,
@@ -14,4 +15,11 @@ extern "C" bool SlamWriteEvalPlots(const std::string& dir,
                                    std::string* error) {
   return slam::WriteEvalPlotsImpl(dir, result, settings, labels, written,
                                   error);
+}
+
+// The map plot of `slam optimize --plot` on graphs with landmarks.
+extern "C" bool SlamWriteMapPlot(const std::string& path,
+                                 const slam::MapPlotData& data,
+                                 std::string* error) {
+  return slam::WriteMapPlotImpl(path, data, error);
 }

@@ -352,10 +352,11 @@ void RenderAxes(const Axes& axes, cv::Mat& img, const cv::Rect& panel) {
   for (const auto& mk : axes.markers) {
     const cv::Point c = cv::Point(local.ToPixel(mk.x, mk.y));
     if (mk.square) {
-      cv::rectangle(area, cv::Rect(c.x - 6, c.y - 6, 12, 12), mk.color,
+      const int h = std::max(1, mk.radius - 1);
+      cv::rectangle(area, cv::Rect(c.x - h, c.y - h, 2 * h, 2 * h), mk.color,
                     cv::FILLED);
     } else {
-      cv::circle(area, c, 7, mk.color, cv::FILLED, cv::LINE_AA);
+      cv::circle(area, c, mk.radius, mk.color, cv::FILLED, cv::LINE_AA);
     }
   }
   cv::rectangle(img, m.area, kBlack, 1);

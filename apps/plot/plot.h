@@ -55,6 +55,7 @@ struct Marker {
   cv::Scalar color = kBlack;
   bool square = false;  // Else a circle.
   std::string label;
+  int radius = 7;  // Pixels (half the square's side).
 };
 
 struct Axes {
