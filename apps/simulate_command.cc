@@ -262,11 +262,11 @@ int RunSimulateCommand(const std::vector<std::string>& args) {
         "rad%s; %s\n",
         config.odometry.sigma_translation, config.odometry.sigma_rotation,
         lm.odometry ? "" : " (initial guess only)", sensor.c_str());
-    if (result.retriangulated_landmarks > 0) {
+    if (result.reinitialized_landmarks > 0) {
       std::printf(
-          "%d landmark initial values re-triangulated (the first "
+          "%d landmark initial values placed again (the first "
           "lay behind a camera)\n",
-          result.retriangulated_landmarks);
+          result.reinitialized_landmarks);
     }
   } else {
     std::printf(

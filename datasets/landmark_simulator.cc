@@ -260,67 +260,105 @@ bool AllFinite(const Graph& graph, const std::vector<const Factor*>& factors) {
 }
 
 // The landmark initialization (factors/landmark_init.h) of point `key` from
-// the two observations a and b only: on a graph holding just those cameras
-// and the point. False if it finds no proper (two-ray) position.
-bool InitializeFromPair(const Graph& graph, const Key& key, const Factor& a,
-                        const Factor& b, std::vector<double>* value) {
-  Graph pair;
-  for (const Factor* f : {&a, &b}) {
-    const Node* camera = graph.FindNode(f->keys[0]);
-    if (!pair.HasNode(camera->key)) pair.AddNode(camera->key, camera->value);
+// the observations `subset` only: on a graph holding just their poses and the
+// point. False if it finds no proper position (a monocular point needs two
+// rays).
+bool InitializeFromSubset(const Graph& graph, const Key& key,
+                          const std::vector<const Factor*>& subset,
+                          std::vector<double>* value) {
+  Graph part;
+  for (const Factor* f : subset) {
+    const Node* pose = graph.FindNode(f->keys[0]);
+    if (!part.HasNode(pose->key)) part.AddNode(pose->key, pose->value);
   }
-  pair.AddNode(key, *value);
-  if (pair.AddFactor(a) < 0 || pair.AddFactor(b) < 0) return false;
-  const LandmarkInitReport report = InitializeLandmarks(&pair);
+  part.AddNode(key, *value);
+  for (const Factor* f : subset) {
+    if (part.AddFactor(*f) < 0) return false;
+  }
+  const LandmarkInitReport report = InitializeLandmarks(&part);
   if (report.initialized != 1 || report.weak > 0) return false;
-  *value = pair.FindNode(key)->value;
+  *value = part.FindNode(key)->value;
   return true;
 }
 
-// Monocular: the landmark initialization triangulates the first ray with the
-// one furthest from it, which through the drifting dead-reckoned poses (the
-// first and the last camera of the circle) can put a point behind a camera
-// that sees it, where the reprojection error is undefined. Such points are
-// triangulated again from the earliest pair of observations whose true rays
-// are min_parallax apart (cameras close in time: little drift between them).
+// The observation subsets tried, in order, to place a point again:
+// monocular, the pairs in time order whose true rays are min_parallax apart
+// (cameras close in time: little drift between them); stereo, single
+// observations by decreasing disparity (the most precise depth first);
+// otherwise single observations in time order.
+std::vector<std::vector<size_t>> Subsets(
+    const SimulationConfig& config, const TruePoses& truth,
+    const Eigen::Vector3d& point, const std::vector<Observation>& observations,
+    const std::vector<size_t>& indices) {
+  std::vector<std::vector<size_t>> subsets;
+  const std::string& type = config.world.type;
+  if (type == "monocular") {
+    const double min_angle = std::max(config.landmarks.min_parallax, 1e-6);
+    for (size_t a = 0; a < indices.size(); ++a) {
+      for (size_t b = a + 1; b < indices.size(); ++b) {
+        if (Parallax(truth, point,
+                     {observations[indices[a]].pose,
+                      observations[indices[b]].pose}) >= min_angle) {
+          subsets.push_back({indices[a], indices[b]});
+        }
+      }
+    }
+    return subsets;
+  }
+  for (size_t i : indices) subsets.push_back({i});
+  if (type == "stereo") {
+    const auto disparity = [&](const std::vector<size_t>& s) {
+      const Eigen::VectorXd& z = observations[s[0]].z;
+      return z[0] - z[1];
+    };
+    std::stable_sort(
+        subsets.begin(), subsets.end(),
+        [&](const std::vector<size_t>& a, const std::vector<size_t>& b) {
+          return disparity(a) > disparity(b);
+        });
+  }
+  return subsets;
+}
+
+// The landmark initialization places a point from its first observation(s)
+// through the drifting dead-reckoned poses; with a noisy stereo disparity or
+// the widest monocular ray pair (first and last camera of the circle) the
+// point can land behind a camera that sees it, where the projection is
+// undefined and no solver can start. Such points are placed again from the
+// observation subsets above until every factor of the point is defined.
 // `observations` and `factors` are parallel. Counts the points moved in
 // *moved; false if one stays undefined.
-bool RetriangulateUndefinedPoints(const SimulationConfig& config,
-                                  const TruePoses& truth,
-                                  const std::vector<Eigen::Vector3d>& points,
-                                  const std::vector<Observation>& observations,
-                                  const std::vector<FactorId>& factors,
-                                  Graph* graph, int* moved,
-                                  std::string* error) {
+bool ReplaceUndefinedPoints(const SimulationConfig& config,
+                            const TruePoses& truth,
+                            const std::vector<Eigen::Vector3d>& points,
+                            const std::vector<Observation>& observations,
+                            const std::vector<FactorId>& factors, Graph* graph,
+                            int* moved, std::string* error) {
   *moved = 0;
   std::map<Key, std::vector<size_t>> by_point;  // Indices of observations.
   for (size_t i = 0; i < factors.size(); ++i) {
     by_point[graph->FindFactor(factors[i])->keys[1]].push_back(i);
   }
-  const double min_angle = std::max(config.landmarks.min_parallax, 1e-6);
   for (const auto& [key, indices] : by_point) {
     std::vector<const Factor*> obs;
     for (size_t i : indices) obs.push_back(graph->FindFactor(factors[i]));
     if (AllFinite(*graph, obs)) continue;
-    const Eigen::Vector3d& p = points[observations[indices[0]].landmark];
     std::vector<double>& value = graph->FindNode(key)->value;
+    const Eigen::Vector3d& point = points[observations[indices[0]].landmark];
     bool placed = false;
-    for (size_t a = 0; a < obs.size() && !placed; ++a) {
-      const int pose_a = observations[indices[a]].pose;
-      for (size_t b = a + 1; b < obs.size() && !placed; ++b) {
-        const int pose_b = observations[indices[b]].pose;
-        std::vector<double> candidate = value;
-        if (Parallax(truth, p, {pose_a, pose_b}) < min_angle ||
-            !InitializeFromPair(*graph, key, *obs[a], *obs[b], &candidate)) {
-          continue;
-        }
-        std::copy(candidate.begin(), candidate.end(), value.begin());
-        placed = AllFinite(*graph, obs);
-      }
+    for (const std::vector<size_t>& subset :
+         Subsets(config, truth, point, observations, indices)) {
+      std::vector<const Factor*> part;
+      for (size_t i : subset) part.push_back(graph->FindFactor(factors[i]));
+      std::vector<double> candidate = value;
+      if (!InitializeFromSubset(*graph, key, part, &candidate)) continue;
+      std::copy(candidate.begin(), candidate.end(), value.begin());
+      placed = AllFinite(*graph, obs);
+      if (placed) break;
     }
     if (!placed) {
       *error = "internal error: no initial value of " + key.ToString() +
-               " lies in front of all cameras that see it";
+               " makes all its observations defined";
       return false;
     }
     ++*moved;
@@ -594,10 +632,9 @@ bool SimulateLandmarkWorld(const SimulationConfig& config, Random* random,
              " landmarks could not be initialized";
     return false;
   }
-  return type != "monocular" ||
-         RetriangulateUndefinedPoints(config, truth, points, observations,
-                                      result->landmark_factors, &graph,
-                                      &result->retriangulated_landmarks, error);
+  return ReplaceUndefinedPoints(config, truth, points, observations,
+                                result->landmark_factors, &graph,
+                                &result->reinitialized_landmarks, error);
 }
 
 }  // namespace simulator_internal

@@ -101,9 +101,11 @@
 //   landmark from its first observation through its (dead-reckoned) pose:
 //   range-bearing inversion, relative position, stereo triangulation;
 //   monocular: the midpoint of the first ray and the one furthest from it
-//   (factors/landmark_init.h); a point that lands behind a camera that sees
-//   it (drift between those two cameras) is triangulated again from the
-//   earliest pair of rays at least min_parallax apart.
+//   (factors/landmark_init.h). A point that lands behind a camera that sees
+//   it (drift between the poses, or a small noisy stereo disparity) is placed
+//   again from other observations: stereo, the single observation with the
+//   largest disparity that works; monocular, the earliest pair of rays at
+//   least min_parallax apart that works.
 //   Factors: odometry first, then the observations in pose order; within a
 //   pose in landmark order.
 //
@@ -207,9 +209,9 @@ struct SimulationResult {
   // (their true values are in ground_truth).
   std::vector<FactorId> landmark_factors;
   std::vector<Key> landmarks;
-  // monocular: landmarks whose first initial value (factors/landmark_init.h)
-  // lay behind a camera that sees it, triangulated again (see above).
-  int retriangulated_landmarks = 0;
+  // Landmarks whose first initial value (factors/landmark_init.h) lay behind
+  // a camera that sees it, placed again (see "Initial values" above).
+  int reinitialized_landmarks = 0;
   // Sum of the factors' residual dimensions, and of the tangent dimensions
   // of the free (not fixed) nodes: after optimization chi2 is about
   // chi2-distributed with residual_dimensions - free_dimensions degrees of

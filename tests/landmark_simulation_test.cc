@@ -374,14 +374,35 @@ TEST(LandmarkSimulationTest, Structure) {
 // Monocular: with drift, the widest pair of rays can put a point behind a
 // camera; those points are triangulated again from an early pair, so that
 // every reprojection error is defined and the solve can start.
-TEST(LandmarkSimulationTest, MonocularPointsBehindCamerasAreRetriangulated) {
+TEST(LandmarkSimulationTest, MonocularPointsBehindCamerasArePlacedAgain) {
   SimulationConfig config = Camera("monocular");
   config.world.num_poses = 60;
   config.landmarks.num_landmarks = 200;
   config.seed = 3;
   SimulationResult r;
   SimulateOrDie(config, &r);
-  EXPECT_GT(r.retriangulated_landmarks, 0);
+  EXPECT_GT(r.reinitialized_landmarks, 0);
+  EXPECT_TRUE(std::isfinite(r.graph.Chi2()));
+  OptimizerOptions options;
+  options.verbose = false;
+  const OptimizerSummary summary = Optimize(&r.graph, options, nullptr);
+  EXPECT_TRUE(summary.converged) << summary.termination;
+  EXPECT_LT(RmsError(r.graph, r, true), 0.1);
+}
+
+// Stereo: far points (small disparity, 1 px noise) triangulated from the
+// first observation can land behind the cameras across the circle; they are
+// placed again from the observation with the largest disparity.
+TEST(LandmarkSimulationTest, StereoPointsBehindCamerasArePlacedAgain) {
+  SimulationConfig config = Camera("stereo");
+  config.world.radius = 20.0;
+  config.world.num_poses = 30;
+  config.landmarks.num_landmarks = 80;
+  config.landmarks.odometry = true;
+  config.seed = 1;
+  SimulationResult r;
+  SimulateOrDie(config, &r);
+  EXPECT_GT(r.reinitialized_landmarks, 0);
   EXPECT_TRUE(std::isfinite(r.graph.Chi2()));
   OptimizerOptions options;
   options.verbose = false;
