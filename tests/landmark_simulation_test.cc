@@ -550,5 +550,18 @@ TEST(LandmarkSimulationCliTest, SimulateOptimizeEvalMonocular) {
   RunCliChain("monocular", " --num_poses 30 --num_landmarks 80");
 }
 
+// Pure bundle adjustment from the shipped configs: no odometry factors, the
+// fixed poses (two for monocular) travel through the g2o FIX line.
+TEST(LandmarkSimulationCliTest, ShippedBundleAdjustmentConfigs) {
+  const std::string configs =
+      std::string(SLAM_TEST_DATA_DIR) + "/../../configs";
+  RunCliChain("stereo", " --config " + configs +
+                            "/simulate_stereo.yaml --num_poses 30"
+                            " --num_landmarks 80");
+  RunCliChain("monocular", " --config " + configs +
+                               "/simulate_monocular.yaml --num_poses 30"
+                               " --num_landmarks 80");
+}
+
 }  // namespace
 }  // namespace slam
