@@ -100,12 +100,14 @@
 //   Initial values: poses by dead reckoning from the fixed pose(s); each
 //   landmark from its first observation through its (dead-reckoned) pose:
 //   range-bearing inversion, relative position, stereo triangulation;
-//   monocular: the midpoint of the first ray and the one furthest from it
-//   (factors/landmark_init.h). A point that lands behind a camera that sees
-//   it (drift between the poses, or a small noisy stereo disparity) is placed
-//   again from other observations: stereo, the single observation with the
-//   largest disparity that works; monocular, the earliest pair of rays at
-//   least min_parallax apart that works.
+//   monocular: the midpoint of the earliest pair of rays whose true angle is
+//   at least min_parallax (cameras close in time, so little drift between
+//   them; the landmark initialization's own first-and-widest pair joins the
+//   first and last cameras of the circle, which have drifted apart). A point
+//   that lands behind a camera that sees it (drift, or a small noisy stereo
+//   disparity) is placed again from other observations: stereo, the single
+//   observation with the largest disparity that works; monocular, the next
+//   pair of rays that works.
 //   Factors: odometry first, then the observations in pose order; within a
 //   pose in landmark order.
 //
@@ -209,8 +211,8 @@ struct SimulationResult {
   // (their true values are in ground_truth).
   std::vector<FactorId> landmark_factors;
   std::vector<Key> landmarks;
-  // Landmarks whose first initial value (factors/landmark_init.h) lay behind
-  // a camera that sees it, placed again (see "Initial values" above).
+  // Landmarks whose first initial value lay behind a camera that sees it,
+  // placed again (see "Initial values" above).
   int reinitialized_landmarks = 0;
   // Sum of the factors' residual dimensions, and of the tangent dimensions
   // of the free (not fixed) nodes: after optimization chi2 is about
