@@ -2,6 +2,7 @@
 #include <chrono>
 #include <filesystem>
 #include <cstdio>
+#include <map>
 #include <iostream>
 #include <sstream>
 
@@ -165,6 +166,30 @@ bool HasBetweenFactors(const Graph& graph) {
   return false;
 }
 
+// True if the relative-pose factors join the pose nodes without a cycle.
+bool IsForest(const Graph& graph) {
+  std::map<Key, Key> parent;
+  const auto find = [&parent](Key k) {
+    for (auto it = parent.find(k); it != parent.end() && it->second != k;
+         it = parent.find(k)) {
+      k = it->second;
+    }
+    return k;
+  };
+  for (const auto& [id, f] : graph.factors()) {
+    if (f.type != FactorType::kBetweenSE2 && f.type != FactorType::kBetweenSE3) {
+      continue;
+    }
+    const Key a = find(f.keys[0]);
+    const Key b = find(f.keys[1]);
+    if (a == b) return false;
+    parent[a] = b;
+    parent[f.keys[0]] = b;  // Keeps the paths short.
+    parent[f.keys[1]] = b;
+  }
+  return true;
+}
+
 // Poses by the method, then (landmarks_from_observations) the landmarks
 // again from their observations, since the poses moved.
 bool InitializeWith(InitMethod method, bool landmarks_from_observations,
@@ -195,25 +220,34 @@ bool Initialize(const std::string& init, bool landmarks_from_observations,
     *used = init;
     return InitializeWith(method, landmarks_from_observations, graph, error);
   }
+  // Relative-pose factors forming a forest (pure odometry, as in landmark
+  // SLAM files like Victoria Park) are satisfied exactly by composing them:
+  // the spanning tree is the chordal solution, without the relaxation.
+  const bool forest = landmarks_from_observations && IsForest(*graph);
+  const InitMethod method =
+      forest ? InitMethod::kSpanningTree : InitMethod::kChordal;
+  const char* name = forest ? "spanning_tree" : "chordal";
   // Compared under the robust kernels when there are any: a relaxation that
   // spread outlier loop closures over the whole graph scores badly there.
   const double file_chi2 = graph->RobustChi2();
   const std::vector<std::vector<double>> file_values = SaveValues(*graph);
-  if (!InitializeWith(InitMethod::kChordal, landmarks_from_observations, graph,
-                      error)) {
+  if (!InitializeWith(method, landmarks_from_observations, graph, error)) {
     return false;
   }
-  const double chordal_chi2 = graph->RobustChi2();
+  const double computed_chi2 = graph->RobustChi2();
   // The better start of the two; the file's guess only when it has one.
-  if (file_chi2 < chordal_chi2) {
+  if (file_chi2 < computed_chi2) {
     RestoreValues(file_values, graph);
     *used = "file";
   } else {
-    *used = "chordal";
+    *used = name;
   }
   std::printf("auto initialization: chi2 of the file's guess %.10g, of the "
-              "chordal relaxation %.10g: using %s\n",
-              file_chi2, chordal_chi2, used->c_str());
+              "%s %.10g: using %s\n",
+              file_chi2,
+              forest ? "spanning tree (the relative-pose factors form a tree)"
+                     : "chordal relaxation",
+              computed_chi2, used->c_str());
   return true;
 }
 

@@ -36,7 +36,7 @@ bool LoadOptimizeConfig(const std::string& path, OptimizeConfig* config,
                        "gradient_tolerance", "parameter_tolerance",
                        "initial_trust_region_radius", "linear_solver",
                        "ordering", "sparse_library", "num_threads", "verbose",
-                       "repair_information", "robust"},
+                       "repair_information", "robust", "nonmonotonic_steps"},
                       path, error)) {
     return false;
   }
@@ -53,6 +53,8 @@ bool LoadOptimizeConfig(const std::string& path, OptimizeConfig* config,
                     error) ||
       !ReadOptional(node, "initial_trust_region_radius", path,
                     &o.initial_trust_region_radius, error) ||
+      !ReadOptional(node, "nonmonotonic_steps", path, &o.nonmonotonic_steps,
+                    error) ||
       !ReadOptional(node, "linear_solver", path, &o.linear_solver, error) ||
       !ReadOptional(node, "ordering", path, &o.ordering, error) ||
       !ReadOptional(node, "sparse_library", path, &o.sparse_library, error) ||
@@ -151,6 +153,8 @@ std::string OptimizeConfigToYaml(const OptimizeConfig& config) {
       << "  gradient_tolerance: " << o.gradient_tolerance << "\n"
       << "  parameter_tolerance: " << o.parameter_tolerance << "\n"
       << "  initial_trust_region_radius: " << o.initial_trust_region_radius
+      << "\n"
+      << "  nonmonotonic_steps: " << (o.nonmonotonic_steps ? "true" : "false")
       << "\n"
       << "  linear_solver: " << o.linear_solver << "\n"
       << "  ordering: " << o.ordering << "\n"

@@ -9,6 +9,7 @@
 //     gradient_tolerance: 1e-10
 //     parameter_tolerance: 1e-10
 //     initial_trust_region_radius: 1e12
+//     nonmonotonic_steps: false
 //     linear_solver: auto   # auto | sparse_normal_cholesky | sparse_schur |
 //                           # dense_schur | iterative_schur | dense_qr | ...
 //                           # (auto: sparse_schur with the landmarks

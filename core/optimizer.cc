@@ -240,6 +240,7 @@ OptimizerSummary Optimize(Graph* graph, const OptimizerOptions& options,
   solver_options.logging_type = ceres::SILENT;
   solver_options.initial_trust_region_radius =
       options.initial_trust_region_radius;
+  solver_options.use_nonmonotonic_steps = options.nonmonotonic_steps;
   switch (options.solver) {
     case SolverKind::kLevenbergMarquardt:
       solver_options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;

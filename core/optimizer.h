@@ -57,6 +57,10 @@ struct OptimizerOptions {
   // guess: 13 iterations at 1e4, 4 at 1e12); a rejected step still shrinks
   // it, so LM keeps its safeguard.
   double initial_trust_region_radius = 1e12;
+  // Ceres' non-monotonic trust-region steps (accept a step that raises the
+  // cost if the cost stays below the recent maximum): fewer iterations along
+  // the curved valleys of landmark SLAM from dead reckoning.
+  bool nonmonotonic_steps = false;
   int num_threads = 2;
   // Print one line per iteration and a final summary line to `progress`.
   bool verbose = true;

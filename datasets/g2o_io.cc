@@ -353,7 +353,7 @@ Format FormatOfTag(std::string_view tag) {
       tag == "EDGE_SE2_PRIOR" || tag == "EDGE_SE3_PRIOR" ||
       tag == "VERTEX_XY" || tag == "EDGE_SE2_XY" ||
       tag == "VERTEX_TRACKXYZ" || tag == "EDGE_SE3_TRACKXYZ" ||
-      tag == "PARAMS_SE3OFFSET" || tag == "EDGE_SE2_RANGE_BEARING" ||
+      tag == "EDGE_SE2_RANGE_BEARING" ||
       tag == "PARAMS_STEREO" || tag == "EDGE_SE3_STEREO" ||
       tag == "PARAMS_PINHOLE" || tag == "EDGE_SE3_PROJECT") {
     return Format::kG2o;

@@ -13,7 +13,7 @@
 //   PARAMS_SE3OFFSET offset_id x y z qx qy qz qw
 //   FIX id [id ...]
 //
-// Landmarks (one id space with the poses; factors/landmark_factors.h):
+// Landmarks (factors/landmark_factors.h):
 //
 //   VERTEX_XY id x y                              (2D point)
 //   EDGE_SE2_XY pose point x y I11 I12 I22        (point in the robot frame)
@@ -37,8 +37,11 @@
 // offset after the edge using it); an edge naming an undeclared one, or two
 // records of one kind with the same id, is an error. Landmark vertices
 // without a VERTEX_XY / VERTEX_TRACKXYZ line are created and initialized
-// from their observations (factors/landmark_init.h). An id used both as a
-// pose and as a landmark is an error. The writer numbers the parameter
+// from their observations (factors/landmark_init.h). Landmark ids have their
+// own id space, as GTSAM reads g2o files (its example_with_vertices.g2o has
+// VERTEX_SE3:QUAT 0 and VERTEX_TRACKXYZ 0): Point2Key/Point3Key(id). A FIX
+// line names the pose with that id if there is one, else the landmark. The
+// writer numbers the parameter
 // records in order of first use (equal records share one id) and writes
 // them first, then pose and landmark vertices, FIX lines, and all factors in
 // FactorId order: read -> write -> read reproduces every value bit for bit.
@@ -144,7 +147,7 @@ bool WriteG2o(const std::string& path, const Graph& graph, std::string* error);
 
 // Picks the reader by content: the first recognised tag (VERTEX_SE2,
 // EDGE_SE2, VERTEX_SE3:QUAT, EDGE_SE3:QUAT, g2o prior edges, the g2o
-// landmark and PARAMS_ tags -> g2o; VERTEX2, EDGE2, VERTEX3, EDGE3, BR ->
+// landmark tags, PARAMS_STEREO, PARAMS_PINHOLE -> g2o; VERTEX2, EDGE2, VERTEX3, EDGE3, BR ->
 // TORO; ODOMETRY, LANDMARK -> iSAM, datasets/isam_io.h), falling back to the extension (.graph ->
 // TORO, anything else -> g2o).
 bool ReadPoseGraph(const std::string& path, const GraphReadOptions& options,

@@ -98,6 +98,7 @@ bool ReadIsamFromText(const std::string& name, std::string_view text,
   if (report == nullptr) report = &local_report;
   *report = GraphReadReport();
   text::PoseGraphBuilder builder(name, options);
+  builder.set_shared_id_space(true);
   text::LineTokenizer lines(text);
   std::string problem;
   while (lines.Next()) {

@@ -18,11 +18,12 @@
 // kStereoVoLandmarkIdOffset) point nodes initialized from their first
 // observation's (X, Y, Z), and one stereo factor per measurement
 // (factors/stereo_projection.h) with unit information (1 pixel, as GTSAM's
-// example). The landmark ids are offset so that poses and landmarks can
-// share one id space when the graph is written (g2o). Bad input: "PATH:LINE:
-// problem" (field counts, numbers, unknown pose ids, duplicate pose ids,
-// non-positive disparity is NOT an error: such points get their initial value
-// from (X, Y, Z) all the same).
+// example). The landmark ids are offset so that they stay distinct from the
+// pose ids also for tools that read one id space for both. Bad input:
+// "PATH:LINE: problem" (field counts, numbers, unknown or duplicate pose
+// ids, a skew or a non-positive focal length or baseline). A non-positive
+// disparity is not an error: such points get their initial value from
+// (X, Y, Z) all the same.
 #ifndef SLAM_DATASETS_STEREO_VO_IO_H_
 #define SLAM_DATASETS_STEREO_VO_IO_H_
 

@@ -248,10 +248,10 @@ bool CollectLandmarks(const std::string& path, const Graph& graph,
                " does not match the dimension of the poses";
       return false;
     }
-    if (graph.HasNode(Key(pose_kind, key.id))) {
+    if (node->fixed && graph.HasNode(Key(pose_kind, key.id))) {
       *error = path + ": landmark " + key.ToString() +
-               " has the id of a pose; poses and landmarks share one id "
-               "space in the file";
+               " is fixed and has the id of a pose: a FIX line cannot say "
+               "which of the two is meant";
       return false;
     }
     for (double v : node->value) {
@@ -269,8 +269,7 @@ bool CollectLandmarks(const std::string& path, const Graph& graph,
     Factor check;
     std::string problem;
     if (!RemakeLandmarkFactor(factor, &check, &problem) ||
-        factor.keys[0].kind != pose_kind ||
-        factor.keys[1].kind != point_kind) {
+        factor.keys[0].kind != pose_kind || factor.keys[1].kind != point_kind) {
       *error = path + ": " + name + " is malformed" +
                (problem.empty() ? "" : ": " + problem);
       return false;
@@ -437,12 +436,10 @@ bool PoseGraphBuilder::CheckInformation(
   return true;
 }
 
-template bool PoseGraphBuilder::CheckInformation<2>(int64_t,
-                                                   Eigen::Matrix<double, 2, 2>*,
-                                                   std::string*);
-template bool PoseGraphBuilder::CheckInformation<3>(int64_t,
-                                                   Eigen::Matrix<double, 3, 3>*,
-                                                   std::string*);
+template bool PoseGraphBuilder::CheckInformation<2>(
+    int64_t, Eigen::Matrix<double, 2, 2>*, std::string*);
+template bool PoseGraphBuilder::CheckInformation<3>(
+    int64_t, Eigen::Matrix<double, 3, 3>*, std::string*);
 
 bool PoseGraphBuilder::AddBetweenSE2(int64_t line, int64_t i, int64_t j,
                                      double x, double y, double theta,
@@ -538,7 +535,7 @@ bool PoseGraphBuilder::AddVertexPoint(int64_t line, int64_t id,
                                       const Eigen::VectorXd& p,
                                       std::string* error) {
   if (!SetDimension(line, static_cast<int>(p.size()), error)) return false;
-  const auto [it, inserted] = vertex_lines_.emplace(id, line);
+  const auto [it, inserted] = point_lines_.emplace(id, line);
   if (!inserted) {
     *error = LineError(line, "duplicate vertex id " + std::to_string(id) +
                                  " (first defined at line " +
@@ -588,7 +585,7 @@ bool PoseGraphBuilder::Finish(Graph* graph, GraphReadReport* report,
   for (const auto& [id, value] : points_) {
     const Key key = dimension_ == 3 ? Point3Key(id) : Point2Key(id);
     if (result.AddNode(key, value) == nullptr) {
-      *error = LineError(vertex_lines_.at(id),
+      *error = LineError(point_lines_.at(id),
                          "cannot add vertex " + std::to_string(id));
       return false;
     }
@@ -603,16 +600,16 @@ bool PoseGraphBuilder::Finish(Graph* graph, GraphReadReport* report,
     for (const Key& key : pending.factor.keys) {
       const bool is_point =
           key.kind == NodeKind::kPoint2 || key.kind == NodeKind::kPoint3;
-      // One id space: a pose id used as a landmark, or the reverse.
-      const Key other = is_point ? MakeKey(key.id)
-                                 : (dimension_ == 3 ? Point3Key(key.id)
-                                                    : Point2Key(key.id));
-      if (result.HasNode(other) ||
-          (!result.HasNode(key) && vertex_lines_.count(key.id) > 0)) {
-        *error = LineError(pending.line,
-                           "id " + std::to_string(key.id) + " is used as " +
-                               (is_point ? "a landmark" : "a pose") +
-                               " and as " + (is_point ? "a pose" : "a landmark"));
+      // Shared id space (iSAM): a pose id used as a landmark, or the reverse.
+      const Key other =
+          is_point ? MakeKey(key.id)
+                   : (dimension_ == 3 ? Point3Key(key.id) : Point2Key(key.id));
+      if (shared_id_space_ && result.HasNode(other)) {
+        *error =
+            LineError(pending.line,
+                      "id " + std::to_string(key.id) + " is used as " +
+                          (is_point ? "a landmark" : "a pose") + " and as " +
+                          (is_point ? "a pose" : "a landmark"));
         return false;
       }
       if (result.HasNode(key)) continue;
@@ -658,7 +655,8 @@ bool PoseGraphBuilder::Finish(Graph* graph, GraphReadReport* report,
     }
   }
   if (!missing_points.empty()) {
-    const LandmarkInitReport init = InitializeLandmarks(&result, &missing_points);
+    const LandmarkInitReport init =
+        InitializeLandmarks(&result, &missing_points);
     if (init.failed > 0) {
       *error = name_ + ": cannot initialize " + std::to_string(init.failed) +
                " landmark(s) from their observations";

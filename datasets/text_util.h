@@ -101,8 +101,9 @@ struct PoseGraphContents {
   bool has_prior = false;
   // Landmark point nodes (kPoint2 in 2D, kPoint3 in 3D) in key order and the
   // landmark/camera factors (factors/landmark_factors.h) in FactorId order,
-  // checked like the rest. Poses and points share one id space in the files:
-  // a point whose id is also a pose id is an error.
+  // checked like the rest. Poses and points have separate id spaces (the
+  // tags say which is meant), except in FIX lines: a fixed point whose id is
+  // also a pose id is an error.
   std::vector<const Node*> points;
   std::vector<const Factor*> landmark_factors;
 };
@@ -136,8 +137,12 @@ class PoseGraphBuilder {
                    const Eigen::Vector4d& q_xyzw,
                    const Eigen::Matrix<double, 6, 6>& information,
                    std::string* error);
-  // Landmark vertex (2 values: Point2, 3: Point3); shares the id space of
-  // the pose vertices.
+  // Landmark ids: by default poses and landmarks have separate id spaces
+  // (GTSAM's reading of g2o and TORO files, whose examples reuse pose ids
+  // for landmarks: the tag or the field position says which is meant). With
+  // a shared id space (iSAM) an id used for both is an error.
+  void set_shared_id_space(bool shared) { shared_id_space_ = shared; }
+  // Landmark vertex (2 values: Point2, 3: Point3).
   bool AddVertexPoint(int64_t line, int64_t id, const Eigen::VectorXd& p,
                       std::string* error);
   // A landmark or camera factor from pose `pose_id` to point `point_id` in
@@ -209,6 +214,8 @@ class PoseGraphBuilder {
   std::vector<std::pair<int64_t, std::vector<double>>> vertices_;
   std::vector<std::pair<int64_t, std::vector<double>>> points_;
   std::unordered_map<int64_t, int64_t> vertex_lines_;  // id -> line.
+  std::unordered_map<int64_t, int64_t> point_lines_;   // Landmarks.
+  bool shared_id_space_ = false;
   std::vector<PendingFactor> factors_;
   std::vector<std::pair<int64_t, int64_t>> fixes_;             // (line, id).
   std::vector<std::pair<std::string, int64_t>> unknown_tags_;  // Tag, lines.

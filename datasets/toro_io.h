@@ -32,7 +32,7 @@
 //   example.graph; field order as GTSAM's dataset.cpp reads it) becomes a
 //   range-bearing factor (factors/range_bearing_2d.h) to Point2Key(landmark)
 //   with information diag(1/sigma_range^2, 1/sigma_bearing^2); landmark ids
-//   share the id space of the poses. The file holds no landmark values:
+//   have their own id space (GTSAM's L(id)). The file holds no landmark values:
 //   each landmark is initialized from its first observation. The writer
 //   writes range-bearing factors with diagonal information as BR lines (a
 //   round trip reproduces the sigmas to rounding; landmark values are not

@@ -140,7 +140,7 @@ TEST(G2oIoTest, Reads2dFixtureWithEveryFeature) {
   ASSERT_EQ(report.warnings.size(), 2u);
   EXPECT_EQ(report.warnings[0],
             "unknown tag 'VERTEX_TRACKXY' (2 lines) skipped");
-  EXPECT_EQ(report.warnings[1], "unknown tag 'EDGE_SE2_XY' (1 line) skipped");
+  EXPECT_EQ(report.warnings[1], "unknown tag 'EDGE_SE2_LINE' (1 line) skipped");
 
   ASSERT_EQ(graph.NumNodes(), 4u);
   ASSERT_EQ(graph.NumFactors(), 6u);
@@ -572,7 +572,7 @@ TEST(G2oIoTest, RefusesANonEmptyGraph) {
 TEST(G2oIoTest, UnknownTagsAreWarnedOncePerTagWithACount) {
   std::string text = kV2;
   for (int k = 0; k < 25; ++k) text += "EQUIV 0 1\n";
-  text += "VERTEX_XY 7 1 2\nEQUIV 1 0\n";
+  text += "VERTEX_LINE 7 1 2\nEQUIV 1 0\n";
   const std::string path = WriteText(TempDir() + "/tags.g2o", text);
   Graph graph;
   GraphReadReport report;
@@ -580,7 +580,7 @@ TEST(G2oIoTest, UnknownTagsAreWarnedOncePerTagWithACount) {
   ASSERT_TRUE(Read(path, &graph, &report, &error)) << error;
   ASSERT_EQ(report.warnings.size(), 2u);
   EXPECT_EQ(report.warnings[0], "unknown tag 'EQUIV' (26 lines) skipped");
-  EXPECT_EQ(report.warnings[1], "unknown tag 'VERTEX_XY' (1 line) skipped");
+  EXPECT_EQ(report.warnings[1], "unknown tag 'VERTEX_LINE' (1 line) skipped");
   EXPECT_EQ(graph.NumNodes(), 2u);
 }
 
@@ -728,10 +728,10 @@ TEST(G2oIoTest, WriteRejectsWhatCannotBeReadBack) {
     EXPECT_NE(error.find("non-finite"), std::string::npos) << error;
   }
   EXPECT_TRUE(std::filesystem::is_empty(dir));
-  // Nodes that are not poses are left out.
+  // Nodes that are neither poses nor landmarks are left out.
   Graph graph;
   graph.AddNode(Pose2Key(0), {1, 2, 3});
-  graph.AddNode(Point2Key(0), {4, 5});
+  graph.AddNode(VelocityKey(0), {4, 5, 6});
   ASSERT_TRUE(WriteG2o(dir + "/points.g2o", graph, &error)) << error;
   EXPECT_EQ(ReadText(dir + "/points.g2o"), "VERTEX_SE2 0 1 2 3\n");
 }
@@ -780,7 +780,7 @@ TEST(G2oIoTest, ReadPoseGraphPicksTheReaderByContentThenExtension) {
   // An EDGE2 line after an unknown first tag in a .txt file is TORO.
   const std::string txt = WriteText(
       dir + "/late.txt",
-      "VERTEX_XY 5 1 1\nVERTEX2 0 0 0 0\nVERTEX2 1 1 0 0\n"
+      "VERTEX_LINE 5 1 1\nVERTEX2 0 0 0 0\nVERTEX2 1 1 0 0\n"
       "EDGE2 0 1 1 0 0 1 0 2 3 0 0\n");
   Graph graph4;
   ASSERT_TRUE(ReadPoseGraph(txt, {}, &graph4, &report, &error)) << error;

@@ -149,22 +149,34 @@ TEST(ToroIoTest, ReadsW100WithEquivLinesSkipped) {
   ExpectSameGraph(graph, dispatched);
 }
 
-TEST(ToroIoTest, ReadsExampleGraphWithBearingRangeLinesSkipped) {
+TEST(ToroIoTest, ReadsExampleGraphWithBearingRangeLines) {
   const std::string path = DatasetPath("posegraph_toro/gtsam_example.graph");
   SLAM_REQUIRE_DATASET(path);
   Graph graph;
   GraphReadReport report;
   std::string error;
   ASSERT_TRUE(ReadPoseGraph(path, {}, &graph, &report, &error)) << error;
-  EXPECT_EQ(graph.NumNodes(), 95u);
-  EXPECT_EQ(graph.NumFactors(), 94u);
+  // 95 poses, 94 odometry edges, 422 BR lines to landmarks (read as
+  // range-bearing factors, datasets/toro_io.h).
   EXPECT_EQ(report.vertices, 95);
-  EXPECT_EQ(report.edges, 94);
-  ASSERT_EQ(report.warnings.size(), 1u);
-  EXPECT_EQ(report.warnings[0], "unknown tag 'BR' (422 lines) skipped");
-  for (const auto& [id, f] : graph.factors()) {
-    EXPECT_EQ(f.keys[1].id, f.keys[0].id + 1);
+  EXPECT_EQ(report.edges, 94 + 422);
+  EXPECT_TRUE(report.warnings.empty());
+  int poses = 0, between = 0, bearing_range = 0;
+  for (const auto& [key, node] : graph.nodes()) {
+    poses += key.kind == NodeKind::kPose2;
   }
+  for (const auto& [id, f] : graph.factors()) {
+    if (f.type == FactorType::kBetweenSE2) {
+      ++between;
+      EXPECT_EQ(f.keys[1].id, f.keys[0].id + 1);
+    }
+    bearing_range += f.type == FactorType::kRangeBearing2;
+  }
+  EXPECT_EQ(poses, 95);
+  EXPECT_EQ(between, 94);
+  EXPECT_EQ(bearing_range, 422);
+  EXPECT_EQ(report.landmarks_initialized,
+            static_cast<int>(graph.NumNodes()) - 95);
 }
 
 TEST(ToroIoTest, SharedFilesRoundTripExactly) {
