@@ -91,8 +91,8 @@
 //   least min_parallax apart.
 //   Node ids: poses Pose2Key(k)/Pose3Key(k), k = 0..num_poses-1; landmarks
 //   Point2Key/Point3Key(num_poses + j), j = 0, 1, ... in the order of the
-//   kept landmarks, so that poses and landmarks share one id space as in
-//   g2o files.
+//   kept landmarks: no landmark id equals a pose id, so the written files
+//   also suit readers with one id space for all vertices (g2o itself).
 //   Gauge: pose 0 fixed at its true value. With landmarks.odometry false the
 //   graph holds no odometry factors (pure bundle adjustment; the noisy
 //   odometry only seeds the initial guess); a monocular world then also

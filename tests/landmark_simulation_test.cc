@@ -319,7 +319,7 @@ TEST(LandmarkSimulationTest, Structure) {
     EXPECT_TRUE(r.loop_closure_factors.empty());
     EXPECT_EQ(r.ground_truth.size(), r.graph.NumNodes());
     EXPECT_EQ(r.ground_truth_trajectory.size(), static_cast<size_t>(n));
-    // Landmark ids follow the pose ids (one id space), in order.
+    // Landmark ids follow the pose ids (no id is used twice), in order.
     for (size_t j = 0; j < r.landmarks.size(); ++j) {
       EXPECT_EQ(r.landmarks[j].id, n + static_cast<int64_t>(j));
       EXPECT_EQ(r.landmarks[j].kind,
