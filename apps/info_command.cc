@@ -81,7 +81,8 @@ int RunInfoCommand(const std::vector<std::string>& args) {
     auto& entry = by_type[FactorTypeName(f.type)];
     ++entry.first;
     entry.second += chi2;
-    if (f.keys.size() == 2) {
+    // Relative-pose factors only (landmark factors join a pose and a point).
+    if (f.keys.size() == 2 && f.keys[0].kind == f.keys[1].kind) {
       const int64_t gap = f.keys[1].id - f.keys[0].id;
       (gap == 1 || gap == -1 ? odometry : loop_closures) += 1;
     }
