@@ -22,8 +22,6 @@
 // Settings: defaults < --config FILE (the `simulate:` section, see
 // apps/simulate_config.h and configs/simulate_*.yaml) < explicit flags.
 // --dump_config prints the effective settings as YAML and exits.
-#include <gflags/gflags.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -32,6 +30,8 @@
 #include <set>
 #include <string>
 #include <vector>
+
+#include <gflags/gflags.h>
 
 #include "apps/commands.h"
 #include "apps/common_flags.h"

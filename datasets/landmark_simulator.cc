@@ -1,13 +1,14 @@
 // Landmark and camera worlds of the simulator (landmarks2d, landmarks3d,
 // stereo, monocular); the model is documented in datasets/simulator.h.
-#include <Eigen/Core>
-#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <map>
 #include <string>
 #include <utility>
 #include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include "core/graph.h"
 #include "core/keys.h"

@@ -1,13 +1,12 @@
 #include "datasets/simulator.h"
 
-#include <Eigen/Core>
-#include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <limits>
-#include <random>
 #include <utility>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include "core/lie.h"
 #include "datasets/simulator_internal.h"

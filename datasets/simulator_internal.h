@@ -4,14 +4,15 @@
 #ifndef SLAM_DATASETS_SIMULATOR_INTERNAL_H_
 #define SLAM_DATASETS_SIMULATOR_INTERNAL_H_
 
-#include <Eigen/Core>
-#include <Eigen/Geometry>
 #include <cmath>
 #include <cstdint>
 #include <limits>
 #include <random>
 #include <string>
 #include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include "core/lie.h"
 #include "datasets/simulator.h"
