@@ -1,9 +1,9 @@
 // slam optimize: read a pose graph, initialize, optimize, write the result.
 #include <chrono>
-#include <filesystem>
 #include <cstdio>
-#include <map>
+#include <filesystem>
 #include <iostream>
+#include <map>
 #include <sstream>
 
 #include <gflags/gflags.h>
@@ -12,6 +12,7 @@
 #include "apps/common_flags.h"
 #include "apps/eval_report.h"
 #include "apps/json.h"
+#include "apps/map_plot.h"
 #include "apps/optimize_config.h"
 #include "apps/yaml_config.h"
 #include "core/initialization.h"
@@ -22,7 +23,6 @@
 #include "datasets/trajectory_io.h"
 #include "factors/landmark_factors.h"
 #include "factors/landmark_init.h"
-#include "apps/map_plot.h"
 
 DEFINE_string(i, "",
               "input graph file (g2o, TORO .graph, iSAM; or the stereo "
@@ -159,7 +159,8 @@ void RestoreValues(const std::vector<std::vector<double>>& values,
 
 bool HasBetweenFactors(const Graph& graph) {
   for (const auto& [id, f] : graph.factors()) {
-    if (f.type == FactorType::kBetweenSE2 || f.type == FactorType::kBetweenSE3) {
+    if (f.type == FactorType::kBetweenSE2 ||
+        f.type == FactorType::kBetweenSE3) {
       return true;
     }
   }
@@ -177,7 +178,8 @@ bool IsForest(const Graph& graph) {
     return k;
   };
   for (const auto& [id, f] : graph.factors()) {
-    if (f.type != FactorType::kBetweenSE2 && f.type != FactorType::kBetweenSE3) {
+    if (f.type != FactorType::kBetweenSE2 &&
+        f.type != FactorType::kBetweenSE3) {
       continue;
     }
     const Key a = find(f.keys[0]);
@@ -242,12 +244,13 @@ bool Initialize(const std::string& init, bool landmarks_from_observations,
   } else {
     *used = name;
   }
-  std::printf("auto initialization: chi2 of the file's guess %.10g, of the "
-              "%s %.10g: using %s\n",
-              file_chi2,
-              forest ? "spanning tree (the relative-pose factors form a tree)"
-                     : "chordal relaxation",
-              computed_chi2, used->c_str());
+  std::printf(
+      "auto initialization: chi2 of the file's guess %.10g, of the "
+      "%s %.10g: using %s\n",
+      file_chi2,
+      forest ? "spanning tree (the relative-pose factors form a tree)"
+             : "chordal relaxation",
+      computed_chi2, used->c_str());
   return true;
 }
 
@@ -396,7 +399,8 @@ int RunOptimizeCommand(const std::vector<std::string>& args) {
   std::string init_used;
   size_t num_points = 0;
   for (const auto& [key, node] : graph.nodes()) {
-    num_points += key.kind == NodeKind::kPoint2 || key.kind == NodeKind::kPoint3;
+    num_points +=
+        key.kind == NodeKind::kPoint2 || key.kind == NodeKind::kPoint3;
   }
   // Landmarks the file gave no values for follow the poses.
   const bool landmarks_from_observations =
@@ -482,13 +486,13 @@ int RunOptimizeCommand(const std::vector<std::string>& args) {
     std::error_code ec;
     std::filesystem::create_directories(FLAGS_plot, ec);
     const std::string path = FLAGS_plot + "/map.png";
-    if (ec || !WriteMapPlot(path,
-                            MapPlotFromGraph(graph, "optimized map: " +
-                                                        std::filesystem::path(
-                                                            input)
-                                                            .filename()
-                                                            .string()),
-                            &error)) {
+    if (ec ||
+        !WriteMapPlot(
+            path,
+            MapPlotFromGraph(
+                graph, "optimized map: " +
+                           std::filesystem::path(input).filename().string()),
+            &error)) {
       std::cerr << "slam optimize: --plot: "
                 << (ec ? FLAGS_plot + ": " + ec.message() : error) << "\n";
       return 1;

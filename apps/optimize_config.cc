@@ -71,7 +71,8 @@ bool LoadOptimizeConfig(const std::string& path, OptimizeConfig* config,
   }
   const YAML::Node robust = node["robust"];
   if (robust) {
-    if (!CheckKnownKeys(robust, {"odometry", "loop_closure", "prior", "landmark"}, path,
+    if (!CheckKnownKeys(robust,
+                        {"odometry", "loop_closure", "prior", "landmark"}, path,
                         error) ||
         !ReadKernel(robust, "odometry", path, &config->robust_odometry,
                     error) ||

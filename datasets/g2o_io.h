@@ -147,9 +147,9 @@ bool WriteG2o(const std::string& path, const Graph& graph, std::string* error);
 
 // Picks the reader by content: the first recognised tag (VERTEX_SE2,
 // EDGE_SE2, VERTEX_SE3:QUAT, EDGE_SE3:QUAT, g2o prior edges, the g2o
-// landmark tags, PARAMS_STEREO, PARAMS_PINHOLE -> g2o; VERTEX2, EDGE2, VERTEX3, EDGE3, BR ->
-// TORO; ODOMETRY, LANDMARK -> iSAM, datasets/isam_io.h), falling back to the extension (.graph ->
-// TORO, anything else -> g2o).
+// landmark tags, PARAMS_STEREO, PARAMS_PINHOLE -> g2o; VERTEX2, EDGE2, VERTEX3,
+// EDGE3, BR -> TORO; ODOMETRY, LANDMARK -> iSAM, datasets/isam_io.h), falling
+// back to the extension (.graph -> TORO, anything else -> g2o).
 bool ReadPoseGraph(const std::string& path, const GraphReadOptions& options,
                    Graph* graph, GraphReadReport* report, std::string* error);
 

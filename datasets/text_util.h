@@ -156,7 +156,8 @@ class PoseGraphBuilder {
     ++edges_;
     if (!SetDimension(line, dimension, error)) return false;
     const Key pose = MakeKey(pose_id);
-    const Key point = dimension == 3 ? Point3Key(point_id) : Point2Key(point_id);
+    const Key point =
+        dimension == 3 ? Point3Key(point_id) : Point2Key(point_id);
     return QueueFactor(
         line,
         [&](Factor* factor, std::string* problem) {
