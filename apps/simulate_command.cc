@@ -1,8 +1,16 @@
-// slam simulate: write a synthetic pose-graph dataset with ground truth
-// (datasets/simulator.h) into a directory:
+// slam simulate: write a synthetic pose-graph or landmark dataset with ground
+// truth (datasets/simulator.h) into a directory:
 //
 //   DIR/graph.g2o          noisy measurements; vertices = dead reckoning
-//   DIR/ground_truth.g2o   the same edges; vertices = the true poses
+//                          (landmark worlds: landmark vertices initialized
+//                          from their first observations, factors with the
+//                          landmark tags of datasets/g2o_io.h)
+//   DIR/ground_truth.g2o   the same edges; vertices = the true poses (and
+//                          landmarks)
+//   DIR/landmarks.txt      landmark worlds: the true landmarks, one per line
+//                          "id x y" (2D) or "id x y z" (3D), id = the g2o
+//                          vertex id (a landmarks.txt left by an earlier
+//                          pose-graph run is removed)
 //   DIR/ground_truth.tum   true trajectory, "t x y z qx qy qz qw" (t = index
 //                          in seconds; 2D poses lifted to z = 0)
 //   DIR/outliers.txt       the outlier loop closures, if any: one line per
@@ -14,6 +22,7 @@
 // Settings: defaults < --config FILE (the `simulate:` section, see
 // apps/simulate_config.h and configs/simulate_*.yaml) < explicit flags.
 // --dump_config prints the effective settings as YAML and exits.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -26,6 +35,7 @@
 
 #include "apps/commands.h"
 #include "apps/common_flags.h"
+#include "apps/format.h"
 #include "apps/simulate_config.h"
 #include "datasets/atomic_file.h"
 #include "datasets/g2o_io.h"
@@ -36,7 +46,10 @@
 DECLARE_string(o);
 
 DEFINE_string(world, ::slam::SimulationConfig().world.type.c_str(),
-              "simulate: world type, grid2d | grid3d | sphere3d");
+              "simulate: world type, grid2d | grid3d | sphere3d | "
+              "landmarks2d | landmarks3d | stereo | monocular");
+DEFINE_int32(num_landmarks, ::slam::SimulationConfig().landmarks.num_landmarks,
+             "simulate: landmark worlds: number of landmarks scattered");
 DEFINE_int32(num_poses, ::slam::SimulationConfig().world.num_poses,
              "simulate: number of poses");
 DEFINE_uint64(seed, ::slam::SimulationConfig().seed,
@@ -75,6 +88,9 @@ bool BuildConfig(SimulationConfig* config, std::string* error) {
   }
   if (FlagGiven("world")) config->world.type = FLAGS_world;
   if (FlagGiven("num_poses")) config->world.num_poses = FLAGS_num_poses;
+  if (FlagGiven("num_landmarks")) {
+    config->landmarks.num_landmarks = FLAGS_num_landmarks;
+  }
   if (FlagGiven("seed")) config->seed = FLAGS_seed;
   SimulationConfig::LoopClosures& lc = config->loop_closures;
   if (FlagGiven("outlier_fraction")) {
@@ -107,6 +123,35 @@ std::string OutliersText(const SimulationResult& result) {
   return text;
 }
 
+// One line per landmark: "id x y [z]" (true values, %.17g).
+std::string LandmarksText(const SimulationResult& result) {
+  std::string text = result.is_3d ? "# True landmarks: id x y z\n"
+                                  : "# True landmarks: id x y\n";
+  char buffer[64];
+  for (const Key& key : result.landmarks) {
+    text += std::to_string(key.id);
+    for (double v : result.ground_truth.at(key)) {
+      std::snprintf(buffer, sizeof(buffer), " %.17g", v);
+      text += buffer;
+    }
+    text += "\n";
+  }
+  return text;
+}
+
+// Writes `text` to `path` when `write`, else removes a stale `path`; sets
+// *removed when it did.
+bool WriteOrRemove(bool write, const std::string& path, const std::string& text,
+                   bool* removed, std::string* error) {
+  *removed = false;
+  if (write) return WriteFileAtomically(path, text, error);
+  std::error_code ec;
+  if (std::filesystem::exists(path)) {
+    *removed = std::filesystem::remove(path, ec);
+  }
+  return true;
+}
+
 // chi2 of the graph's current values over the factors not in `skip`.
 double Chi2Without(const Graph& graph, const std::vector<FactorId>& skip) {
   const std::set<FactorId> skipped(skip.begin(), skip.end());
@@ -130,7 +175,8 @@ int RunSimulateCommand(const std::vector<std::string>& args) {
   if (!args.empty()) {
     return Fail("unexpected argument '" + args[0] +
                     "'; usage: slam simulate -o DIR [--world ...] "
-                    "[--num_poses N] [--seed S] [--outlier_fraction F] "
+                    "[--num_poses N] [--num_landmarks N] [--seed S] "
+                    "[--outlier_fraction F] "
                     "[--config FILE] [--dump_config]",
                 2);
   }
@@ -160,6 +206,7 @@ int RunSimulateCommand(const std::vector<std::string>& args) {
   const std::string truth_path = (dir / "ground_truth.g2o").string();
   const std::string tum_path = (dir / "ground_truth.tum").string();
   const std::string outliers_path = (dir / "outliers.txt").string();
+  const std::string landmarks_path = (dir / "landmarks.txt").string();
   const double initial_chi2 = result.graph.Chi2();
   if (!WriteG2o(graph_path, result.graph, &error)) return Fail(error);
   SetNodeValues(result.ground_truth, &result.graph);
@@ -172,46 +219,94 @@ int RunSimulateCommand(const std::vector<std::string>& args) {
     return Fail(error);
   }
   bool removed_stale_outliers = false;
-  if (!result.outlier_factors.empty()) {
-    if (!WriteFileAtomically(outliers_path, OutliersText(result), &error)) {
-      return Fail(error);
-    }
-  } else if (std::filesystem::exists(outliers_path)) {
-    removed_stale_outliers = std::filesystem::remove(outliers_path, ec);
+  bool removed_stale_landmarks = false;
+  const bool has_landmarks = !result.landmarks.empty();
+  if (!WriteOrRemove(!result.outlier_factors.empty(), outliers_path,
+                     result.outlier_factors.empty() ? "" : OutliersText(result),
+                     &removed_stale_outliers, &error) ||
+      !WriteOrRemove(has_landmarks, landmarks_path,
+                     has_landmarks ? LandmarksText(result) : "",
+                     &removed_stale_landmarks, &error)) {
+    return Fail(error);
   }
 
   // Summary.
   const size_t num_outliers = result.outlier_factors.size();
-  const size_t num_inliers = result.loop_closure_factors.size() - num_outliers;
   const int dim = result.is_3d ? 6 : 3;
-  const double dof = static_cast<double>(
-      dim * (result.odometry_factors.size() + num_inliers));
-  std::printf("simulated %s world (seed %llu): %zu poses, %zu odometry, "
-              "%zu loop closures (%zu outliers)\n",
-              config.world.type.c_str(),
-              static_cast<unsigned long long>(config.seed),
-              result.graph.NumNodes(), result.odometry_factors.size(),
-              result.loop_closure_factors.size(), num_outliers);
-  std::printf("noise (1 sigma per axis; rotation full angle): odometry "
-              "%g m, %g rad; loop closures %g m, %g rad\n",
-              config.odometry.sigma_translation,
-              config.odometry.sigma_rotation,
-              config.loop_closures.noise.sigma_translation,
-              config.loop_closures.noise.sigma_rotation);
+  // Residual dimensions of the inlier factors.
+  const double dof = static_cast<double>(result.residual_dimensions -
+                                         dim * static_cast<int>(num_outliers));
+  const size_t num_poses = result.graph.NumNodes() - result.landmarks.size();
+  if (has_landmarks) {
+    const SimulationConfig::Landmarks& lm = config.landmarks;
+    std::printf(
+        "simulated %s world (seed %llu): %zu poses, %zu landmarks, "
+        "%zu odometry, %zu landmark observations\n",
+        config.world.type.c_str(), static_cast<unsigned long long>(config.seed),
+        num_poses, result.landmarks.size(), result.odometry_factors.size(),
+        result.landmark_factors.size());
+    const std::string& type = config.world.type;
+    std::string sensor;
+    if (type == "stereo" || type == "monocular") {
+      sensor = "pixel " + Fmt("%g", lm.sigma_pixel) + " px";
+    } else if (type == "landmarks3d" || lm.observations != "range_bearing") {
+      sensor = "position " + Fmt("%g", lm.sigma_position) + " m";
+    }
+    if (type == "landmarks2d" && lm.observations != "relative_position") {
+      sensor = "range " + Fmt("%g", lm.sigma_range) + " m, bearing " +
+               Fmt("%g", lm.sigma_bearing) + " rad" +
+               (sensor.empty() ? "" : ", " + sensor);
+    }
+    std::printf(
+        "noise (1 sigma per axis; rotation full angle): odometry %g m, %g "
+        "rad%s; %s\n",
+        config.odometry.sigma_translation, config.odometry.sigma_rotation,
+        lm.odometry ? "" : " (initial guess only)", sensor.c_str());
+    if (result.reinitialized_landmarks > 0) {
+      std::printf(
+          "%d landmark initial values placed again (the first "
+          "lay behind a camera)\n",
+          result.reinitialized_landmarks);
+    }
+  } else {
+    std::printf(
+        "simulated %s world (seed %llu): %zu poses, %zu odometry, "
+        "%zu loop closures (%zu outliers)\n",
+        config.world.type.c_str(), static_cast<unsigned long long>(config.seed),
+        num_poses, result.odometry_factors.size(),
+        result.loop_closure_factors.size(), num_outliers);
+    std::printf(
+        "noise (1 sigma per axis; rotation full angle): odometry "
+        "%g m, %g rad; loop closures %g m, %g rad\n",
+        config.odometry.sigma_translation, config.odometry.sigma_rotation,
+        config.loop_closures.noise.sigma_translation,
+        config.loop_closures.noise.sigma_rotation);
+  }
   std::printf("chi2 of the initial guess (dead reckoning): %.10g\n",
               initial_chi2);
-  std::printf("chi2 of the ground truth: %.10g; without the outliers %.10g "
-              "(expected %.0f +- %.0f)\n",
-              truth_chi2, truth_inlier_chi2, dof, std::sqrt(2.0 * dof));
+  std::printf(
+      "chi2 of the ground truth: %.10g; without the outliers %.10g "
+      "(expected %.0f +- %.0f)\n",
+      truth_chi2, truth_inlier_chi2, dof, std::sqrt(2.0 * dof));
+  const double optimum_dof = dof - result.free_dimensions;
+  std::printf(
+      "chi2 expected at the optimum: %.0f +- %.0f (%d free "
+      "dimensions)\n",
+      optimum_dof, std::sqrt(2.0 * std::max(optimum_dof, 0.0)),
+      result.free_dimensions);
   std::printf("wrote %s, %s, %s", graph_path.c_str(), truth_path.c_str(),
               tum_path.c_str());
   if (num_outliers > 0) std::printf(", %s", outliers_path.c_str());
+  if (has_landmarks) std::printf(", %s", landmarks_path.c_str());
   std::printf("\n");
   if (removed_stale_outliers) {
     std::printf("removed %s left by an earlier run\n", outliers_path.c_str());
   }
-  std::printf("next: slam optimize -i %s -o %s\n", graph_path.c_str(),
-              (dir / "optimized.g2o").string().c_str());
+  if (removed_stale_landmarks) {
+    std::printf("removed %s left by an earlier run\n", landmarks_path.c_str());
+  }
+  std::printf("next: slam optimize -i %s -o %s --gt %s\n", graph_path.c_str(),
+              (dir / "optimized.g2o").string().c_str(), tum_path.c_str());
   return 0;
 }
 

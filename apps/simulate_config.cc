@@ -20,6 +20,60 @@ bool ReadNoise(const YAML::Node& node, const std::string& where,
                       error);
 }
 
+bool ReadLandmarks(const YAML::Node& node, const std::string& where,
+                   SimulationConfig::Landmarks* lm, std::string* error) {
+  if (!node || node.IsNull()) return true;
+  return CheckKnownKeys(
+             node,
+             {"num_landmarks", "margin", "field_radius", "min_observations",
+              "observations", "max_range", "field_of_view", "sigma_range",
+              "sigma_bearing", "sigma_position", "sigma_pixel", "min_parallax",
+              "sensor_offset", "odometry"},
+             where, error) &&
+         ReadOptional(node, "num_landmarks", where, &lm->num_landmarks,
+                      error) &&
+         ReadOptional(node, "margin", where, &lm->margin, error) &&
+         ReadOptional(node, "field_radius", where, &lm->field_radius, error) &&
+         ReadOptional(node, "min_observations", where, &lm->min_observations,
+                      error) &&
+         ReadOptional(node, "observations", where, &lm->observations, error) &&
+         ReadOptional(node, "max_range", where, &lm->max_range, error) &&
+         ReadOptional(node, "field_of_view", where, &lm->field_of_view,
+                      error) &&
+         ReadOptional(node, "sigma_range", where, &lm->sigma_range, error) &&
+         ReadOptional(node, "sigma_bearing", where, &lm->sigma_bearing,
+                      error) &&
+         ReadOptional(node, "sigma_position", where, &lm->sigma_position,
+                      error) &&
+         ReadOptional(node, "sigma_pixel", where, &lm->sigma_pixel, error) &&
+         ReadOptional(node, "min_parallax", where, &lm->min_parallax, error) &&
+         ReadOptional(node, "sensor_offset", where, &lm->sensor_offset,
+                      error) &&
+         ReadOptional(node, "odometry", where, &lm->odometry, error);
+}
+
+bool ReadCamera(const YAML::Node& node, const std::string& where,
+                SimulationConfig::Camera* c, std::string* error) {
+  if (!node || node.IsNull()) return true;
+  return CheckKnownKeys(node,
+                        {"fx", "fy", "cx", "cy", "width", "height", "baseline",
+                         "k1", "k2", "p1", "p2", "min_depth", "max_depth"},
+                        where, error) &&
+         ReadOptional(node, "fx", where, &c->fx, error) &&
+         ReadOptional(node, "fy", where, &c->fy, error) &&
+         ReadOptional(node, "cx", where, &c->cx, error) &&
+         ReadOptional(node, "cy", where, &c->cy, error) &&
+         ReadOptional(node, "width", where, &c->width, error) &&
+         ReadOptional(node, "height", where, &c->height, error) &&
+         ReadOptional(node, "baseline", where, &c->baseline, error) &&
+         ReadOptional(node, "k1", where, &c->k1, error) &&
+         ReadOptional(node, "k2", where, &c->k2, error) &&
+         ReadOptional(node, "p1", where, &c->p1, error) &&
+         ReadOptional(node, "p2", where, &c->p2, error) &&
+         ReadOptional(node, "min_depth", where, &c->min_depth, error) &&
+         ReadOptional(node, "max_depth", where, &c->max_depth, error);
+}
+
 // Shortest text that reads back as exactly `value`, with a decimal point so
 // that it reads as a float.
 std::string FormatDouble(double value) {
@@ -50,6 +104,18 @@ class YamlWriter {
              const std::string& comment = "") {
     Line(indent, key + ": " + FormatDouble(value), comment);
   }
+  void Value(int indent, const std::string& key,
+             const std::vector<double>& values,
+             const std::string& comment = "") {
+    std::string text;
+    for (double v : values)
+      text += (text.empty() ? "" : ", ") + FormatDouble(v);
+    Line(indent, key + ": [" + text + "]", comment);
+  }
+  void Value(int indent, const std::string& key, bool value,
+             const std::string& comment = "") {
+    Line(indent, key + ": " + (value ? "true" : "false"), comment);
+  }
   std::string str() const { return out_.str(); }
 
  private:
@@ -74,8 +140,10 @@ bool SimulationConfigFromYaml(const YAML::Node& root, const std::string& where,
   if (!CheckTopLevelSections(root, where, error)) return false;
   const YAML::Node node = root["simulate"];
   if (!node || node.IsNull()) return true;
-  if (!CheckKnownKeys(node, {"seed", "world", "odometry", "loop_closures"},
-                      where, error) ||
+  if (!CheckKnownKeys(
+          node,
+          {"seed", "world", "odometry", "loop_closures", "landmarks", "camera"},
+          where, error) ||
       !ReadOptional(node, "seed", where, &config->seed, error)) {
     return false;
   }
@@ -127,7 +195,8 @@ bool SimulationConfigFromYaml(const YAML::Node& root, const std::string& where,
       return false;
     }
   }
-  return true;
+  return ReadLandmarks(node["landmarks"], where, &config->landmarks, error) &&
+         ReadCamera(node["camera"], where, &config->camera, error);
 }
 
 bool LoadSimulationConfig(const std::string& path, SimulationConfig* config,
@@ -151,7 +220,9 @@ std::string SimulationConfigToYaml(const SimulationConfig& config) {
   out.Section(0, "simulate");
   out.Value(2, "seed", config.seed);
   out.Section(2, "world");
-  out.Value(4, "type", w.type, "grid2d | grid3d | sphere3d");
+  out.Value(4, "type", w.type,
+            "grid2d | grid3d | sphere3d | landmarks2d | landmarks3d | "
+            "stereo | monocular");
   out.Value(4, "num_poses", w.num_poses);
   out.Value(4, "step", w.step, "grid worlds: lattice spacing [m]");
   out.Value(4, "grid_size", w.grid_size,
@@ -160,15 +231,15 @@ std::string SimulationConfigToYaml(const SimulationConfig& config) {
             "grid worlds: chance to turn at a move");
   out.Value(4, "poses_per_ring", w.poses_per_ring,
             "sphere3d: poses per revolution");
-  out.Value(4, "radius", w.radius, "sphere3d: sphere radius [m]");
+  out.Value(4, "radius", w.radius,
+            "sphere3d: sphere radius; stereo/monocular: circle [m]");
   out.Section(2, "odometry");
   out.Value(4, "sigma_translation", config.odometry.sigma_translation,
             "[m] per axis");
   out.Value(4, "sigma_rotation", config.odometry.sigma_rotation,
             "[rad] full angle, per axis");
   out.Section(2, "loop_closures");
-  out.Value(4, "sigma_translation", lc.noise.sigma_translation,
-            "[m] per axis");
+  out.Value(4, "sigma_translation", lc.noise.sigma_translation, "[m] per axis");
   out.Value(4, "sigma_rotation", lc.noise.sigma_rotation,
             "[rad] full angle, per axis");
   out.Value(4, "radius", lc.radius, "grid worlds: revisit distance [m]");
@@ -181,6 +252,44 @@ std::string SimulationConfigToYaml(const SimulationConfig& config) {
             "share of wrong loop closures, [0, 1)");
   out.Value(4, "outlier_max_translation", lc.outlier_max_translation,
             "outliers: translation range [m]");
+  const SimulationConfig::Landmarks& lm = config.landmarks;
+  out.Section(2, "landmarks", "landmarks2d | landmarks3d | stereo | monocular");
+  out.Value(4, "num_landmarks", lm.num_landmarks);
+  out.Value(4, "margin", lm.margin, "landmarks2d/3d: field beyond path [m]");
+  out.Value(4, "field_radius", lm.field_radius,
+            "stereo/monocular: point ball radius [m]");
+  out.Value(4, "min_observations", lm.min_observations,
+            "landmarks seen less often are left out");
+  out.Value(4, "observations", lm.observations,
+            "landmarks2d: range_bearing | relative_position | both");
+  out.Value(4, "max_range", lm.max_range, "landmarks2d/3d: sensor range [m]");
+  out.Value(4, "field_of_view", lm.field_of_view,
+            "landmarks2d: full opening angle [rad]");
+  out.Value(4, "sigma_range", lm.sigma_range, "[m]");
+  out.Value(4, "sigma_bearing", lm.sigma_bearing, "[rad]");
+  out.Value(4, "sigma_position", lm.sigma_position,
+            "relative position, per axis [m]");
+  out.Value(4, "sigma_pixel", lm.sigma_pixel, "cameras, per coordinate [px]");
+  out.Value(4, "min_parallax", lm.min_parallax,
+            "monocular: widest ray angle needed [rad]");
+  out.Value(4, "sensor_offset", lm.sensor_offset,
+            "landmarks3d: T_body_sensor x y z qx qy qz qw");
+  out.Value(4, "odometry", lm.odometry, "false: no odometry factors (pure BA)");
+  const SimulationConfig::Camera& c = config.camera;
+  out.Section(2, "camera", "stereo | monocular");
+  out.Value(4, "fx", c.fx, "[px]");
+  out.Value(4, "fy", c.fy, "[px]");
+  out.Value(4, "cx", c.cx, "[px]");
+  out.Value(4, "cy", c.cy, "[px]");
+  out.Value(4, "width", c.width, "[px]");
+  out.Value(4, "height", c.height, "[px]");
+  out.Value(4, "baseline", c.baseline, "stereo [m]");
+  out.Value(4, "k1", c.k1, "monocular: radial-tangential distortion");
+  out.Value(4, "k2", c.k2);
+  out.Value(4, "p1", c.p1);
+  out.Value(4, "p2", c.p2);
+  out.Value(4, "min_depth", c.min_depth, "[m]");
+  out.Value(4, "max_depth", c.max_depth, "[m]");
   return out.str();
 }
 

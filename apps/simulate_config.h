@@ -5,13 +5,15 @@
 //   simulate:
 //     seed: 1
 //     world:
-//       type: grid2d            # grid2d | grid3d | sphere3d
+//       type: grid2d            # grid2d | grid3d | sphere3d | landmarks2d |
+//                               # landmarks3d | stereo | monocular
 //       num_poses: 500
 //       step: 1.0               # grid worlds: lattice spacing [m]
 //       grid_size: 10           # grid worlds: lattice points per side
 //       turn_probability: 0.3   # grid worlds: chance to turn at a move
 //       poses_per_ring: 50      # sphere3d: poses per revolution
-//       radius: 20.0            # sphere3d: sphere radius [m]
+//       radius: 20.0            # sphere3d: sphere radius; stereo/monocular:
+//                               # camera circle radius [m]
 //     odometry:
 //       sigma_translation: 0.05 # [m] per axis
 //       sigma_rotation: 0.01    # [rad] full angle, per axis
@@ -24,6 +26,36 @@
 //       min_index_gap: 5        # no closures to the last few poses
 //       outlier_fraction: 0.0   # share of wrong loop closures
 //       outlier_max_translation: 10.0  # [m]
+//     landmarks:                # landmark worlds (datasets/simulator.h)
+//       num_landmarks: 200
+//       margin: 2.0             # landmarks2d/3d: field beyond the path [m]
+//       field_radius: 5.0       # stereo/monocular: point ball radius [m]
+//       min_observations: 2     # landmarks seen less often are left out
+//       observations: range_bearing  # landmarks2d: range_bearing |
+//                               # relative_position | both
+//       max_range: 5.0          # landmarks2d/3d [m]
+//       field_of_view: 6.283185307179586  # landmarks2d: full angle [rad]
+//       sigma_range: 0.05       # [m]
+//       sigma_bearing: 0.01     # [rad]
+//       sigma_position: 0.05    # relative position, per axis [m]
+//       sigma_pixel: 1.0        # cameras, per coordinate [px]
+//       min_parallax: 0.05      # monocular: widest ray angle needed [rad]
+//       sensor_offset: [0, 0, 0, 0, 0, 0, 1]  # landmarks3d: T_body_sensor
+//       odometry: true          # false: no odometry factors (pure BA)
+//     camera:                   # stereo and monocular worlds
+//       fx: 400.0
+//       fy: 400.0
+//       cx: 320.0
+//       cy: 240.0
+//       width: 640
+//       height: 480
+//       baseline: 0.5           # stereo [m]
+//       k1: 0.0                 # monocular: radial-tangential distortion
+//       k2: 0.0
+//       p1: 0.0
+//       p2: 0.0
+//       min_depth: 0.5          # [m]
+//       max_depth: 50.0         # [m]
 //
 // Every key is optional (missing keys keep their current value); unknown
 // keys and values of the wrong type are errors naming the file and line.

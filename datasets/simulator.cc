@@ -3,73 +3,29 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <limits>
-#include <random>
 #include <utility>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
 #include "core/lie.h"
+#include "datasets/simulator_internal.h"
 #include "factors/pose_factors.h"
 
 namespace slam {
+
+using simulator_internal::CheckPositive;
+using simulator_internal::CheckProbability;
+using simulator_internal::GridWorld2d;
+using simulator_internal::GridWorld3d;
+using simulator_internal::Information2;
+using simulator_internal::Information3;
+using simulator_internal::Random;
+using simulator_internal::SampleNoise2;
+using simulator_internal::SampleNoise3;
+using simulator_internal::TruePoses;
+
 namespace {
-
-// Uniform and normal draws computed from the raw engine output, so that the
-// sequence is the same with every standard library.
-class Random {
- public:
-  explicit Random(uint64_t seed) : engine_(seed) {}
-
-  // Uniform in [0, 1), 53 random bits.
-  double Uniform() {
-    return static_cast<double>(engine_() >> 11) * 0x1.0p-53;
-  }
-  double Uniform(double lo, double hi) { return lo + (hi - lo) * Uniform(); }
-  // Uniform integer in [0, n), n > 0, without modulo bias.
-  int64_t UniformInt(int64_t n) {
-    const uint64_t un = static_cast<uint64_t>(n);
-    const uint64_t limit =
-        std::numeric_limits<uint64_t>::max() -
-        std::numeric_limits<uint64_t>::max() % un;
-    uint64_t r;
-    do {
-      r = engine_();
-    } while (r >= limit);
-    return static_cast<int64_t>(r % un);
-  }
-  bool Bernoulli(double p) { return Uniform() < p; }
-  // Standard normal (Box-Muller, one draw per call).
-  double Normal() {
-    const double u1 = 1.0 - Uniform();  // (0, 1].
-    const double u2 = Uniform();
-    return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * M_PI * u2);
-  }
-  Eigen::Quaterniond UniformRotation() {
-    Eigen::Vector4d v;
-    do {
-      v << Normal(), Normal(), Normal(), Normal();
-    } while (v.norm() < 1e-6);
-    v.normalize();
-    return Eigen::Quaterniond(v[3], v[0], v[1], v[2]);
-  }
-
- private:
-  std::mt19937_64 engine_;
-};
-
-// The true trajectory: SE(2) poses (grid2d) or SE(3) poses.
-struct TruePoses {
-  bool is_3d = false;
-  std::vector<Pose2> poses2;
-  std::vector<Pose3> poses3;
-  std::vector<Eigen::Vector3d> positions;  // For the loop-closure search.
-
-  int size() const {
-    return static_cast<int>(is_3d ? poses3.size() : poses2.size());
-  }
-};
 
 // ---------------------------------------------------------------------------
 // Worlds.
@@ -94,6 +50,10 @@ int ChooseMove(const std::vector<bool>& allowed, double turn_probability,
   if (turns.empty()) return -1;
   return turns[random->UniformInt(static_cast<int64_t>(turns.size()))];
 }
+
+}  // namespace
+
+namespace simulator_internal {
 
 // grid2d: heading h in {0, 1, 2, 3} = +x, +y, -x, -y.
 void GridWorld2d(const SimulationConfig::World& world, Random* random,
@@ -167,6 +127,10 @@ void GridWorld3d(const SimulationConfig::World& world, Random* random,
     truth->positions.push_back(pose.t);
   }
 }
+
+}  // namespace simulator_internal
+
+namespace {
 
 // sphere3d: a spiral parameterized by s = pose index.
 void SphereWorld(const SimulationConfig::World& world, TruePoses* truth) {
@@ -251,9 +215,8 @@ void GridLoopClosures(const SimulationConfig& config, const TruePoses& truth,
     const int take =
         std::min<int>(lc.max_per_pose, static_cast<int>(candidates.size()));
     for (int t = 0; t < take; ++t) {
-      const int pick =
-          t + static_cast<int>(random->UniformInt(
-                  static_cast<int64_t>(candidates.size()) - t));
+      const int pick = t + static_cast<int>(random->UniformInt(
+                               static_cast<int64_t>(candidates.size()) - t));
       std::swap(candidates[t], candidates[pick]);
     }
     std::sort(candidates.begin(), candidates.begin() + take);
@@ -278,8 +241,7 @@ void OutlierLoopClosures(const SimulationConfig& config, int num_poses,
                          std::vector<Edge>* edges) {
   const double f = config.loop_closures.outlier_fraction;
   if (f <= 0.0 || num_poses < 3) return;
-  const int count =
-      static_cast<int>(std::llround(f / (1.0 - f) * num_inliers));
+  const int count = static_cast<int>(std::llround(f / (1.0 - f) * num_inliers));
   for (int c = 0; c < count; ++c) {
     int a, b;
     do {
@@ -292,6 +254,10 @@ void OutlierLoopClosures(const SimulationConfig& config, int num_poses,
 
 // ---------------------------------------------------------------------------
 // Measurements.
+
+}  // namespace
+
+namespace simulator_internal {
 
 // v2t(e)^-1 with e drawn from the between factor's error distribution.
 Pose2 SampleNoise2(const SimulationConfig::Noise& noise, Random* random) {
@@ -346,6 +312,10 @@ bool CheckProbability(double value, const char* name, std::string* error) {
   return true;
 }
 
+}  // namespace simulator_internal
+
+namespace {
+
 bool CheckNoise(const SimulationConfig::Noise& noise, const char* section,
                 std::string* error) {
   const std::string t = std::string(section) + ".sigma_translation";
@@ -361,11 +331,25 @@ bool CheckNoise(const SimulationConfig::Noise& noise, const char* section,
   return true;
 }
 
+// Residual dimensions of all factors and tangent dimensions of the free
+// nodes (SimulationResult).
+void CountDimensions(SimulationResult* result) {
+  result->residual_dimensions = 0;
+  result->free_dimensions = 0;
+  for (const auto& [id, factor] : result->graph.factors()) {
+    result->residual_dimensions += factor.cost->num_residuals();
+  }
+  for (const auto& [key, node] : result->graph.nodes()) {
+    if (!node->fixed) result->free_dimensions += TangentSize(key.kind);
+  }
+}
+
 }  // namespace
 
 const std::vector<std::string>& SimulationWorldTypes() {
-  static const auto* types =
-      new std::vector<std::string>{"grid2d", "grid3d", "sphere3d"};
+  static const auto* types = new std::vector<std::string>{
+      "grid2d",      "grid3d", "sphere3d", "landmarks2d",
+      "landmarks3d", "stereo", "monocular"};
   return *types;
 }
 
@@ -374,8 +358,11 @@ bool ValidateSimulationConfig(const SimulationConfig& config,
   const SimulationConfig::World& w = config.world;
   const auto& types = SimulationWorldTypes();
   if (std::find(types.begin(), types.end(), w.type) == types.end()) {
-    *error = "world.type '" + w.type + "' is not one of grid2d, grid3d, " +
-             "sphere3d";
+    std::string names;
+    for (const std::string& name : types) {
+      names += (names.empty() ? "" : ", ") + name;
+    }
+    *error = "world.type '" + w.type + "' is not one of " + names;
     return false;
   }
   if (w.num_poses < 2 || w.num_poses > 10000000) {
@@ -384,8 +371,7 @@ bool ValidateSimulationConfig(const SimulationConfig& config,
   }
   if (!CheckPositive(w.step, "world.step", error) ||
       !CheckPositive(w.radius, "world.radius", error) ||
-      !CheckProbability(w.turn_probability, "world.turn_probability",
-                        error)) {
+      !CheckProbability(w.turn_probability, "world.turn_probability", error)) {
     return false;
   }
   if (w.grid_size < 2) {
@@ -421,7 +407,8 @@ bool ValidateSimulationConfig(const SimulationConfig& config,
     return false;
   }
   return CheckPositive(lc.outlier_max_translation,
-                       "loop_closures.outlier_max_translation", error);
+                       "loop_closures.outlier_max_translation", error) &&
+         simulator_internal::ValidateLandmarkConfig(config, error);
 }
 
 bool Simulate(const SimulationConfig& config, SimulationResult* result,
@@ -429,6 +416,14 @@ bool Simulate(const SimulationConfig& config, SimulationResult* result,
   if (!ValidateSimulationConfig(config, error)) return false;
   *result = SimulationResult();
   Random random(config.seed);
+  if (simulator_internal::IsLandmarkWorld(config.world.type)) {
+    if (!simulator_internal::SimulateLandmarkWorld(config, &random, result,
+                                                   error)) {
+      return false;
+    }
+    CountDimensions(result);
+    return true;
+  }
 
   // 1. The true trajectory.
   TruePoses truth;
@@ -549,6 +544,7 @@ bool Simulate(const SimulationConfig& config, SimulationResult* result,
       if (edge.kind == Edge::kOutlier) result->outlier_factors.push_back(id);
     }
   }
+  CountDimensions(result);
   return true;
 }
 

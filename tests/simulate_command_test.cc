@@ -17,11 +17,11 @@
 namespace slam {
 namespace {
 
+using ::slam::testing::Exists;
+using ::slam::testing::ReadText;
 using ::slam::testing::RunSlam;
 using ::slam::testing::TempDir;
-using ::slam::testing::ReadText;
 using ::slam::testing::WriteText;
-using ::slam::testing::Exists;
 
 std::string ConfigsDir() {
   return std::string(SLAM_TEST_DATA_DIR) + "/../../configs";
@@ -48,6 +48,37 @@ void ExpectSameConfig(const SimulationConfig& a, const SimulationConfig& b) {
   EXPECT_EQ(la.min_index_gap, lb.min_index_gap);
   EXPECT_EQ(la.outlier_fraction, lb.outlier_fraction);
   EXPECT_EQ(la.outlier_max_translation, lb.outlier_max_translation);
+  const SimulationConfig::Landmarks& ma = a.landmarks;
+  const SimulationConfig::Landmarks& mb = b.landmarks;
+  EXPECT_EQ(ma.num_landmarks, mb.num_landmarks);
+  EXPECT_EQ(ma.margin, mb.margin);
+  EXPECT_EQ(ma.field_radius, mb.field_radius);
+  EXPECT_EQ(ma.min_observations, mb.min_observations);
+  EXPECT_EQ(ma.observations, mb.observations);
+  EXPECT_EQ(ma.max_range, mb.max_range);
+  EXPECT_EQ(ma.field_of_view, mb.field_of_view);
+  EXPECT_EQ(ma.sigma_range, mb.sigma_range);
+  EXPECT_EQ(ma.sigma_bearing, mb.sigma_bearing);
+  EXPECT_EQ(ma.sigma_position, mb.sigma_position);
+  EXPECT_EQ(ma.sigma_pixel, mb.sigma_pixel);
+  EXPECT_EQ(ma.min_parallax, mb.min_parallax);
+  EXPECT_EQ(ma.sensor_offset, mb.sensor_offset);
+  EXPECT_EQ(ma.odometry, mb.odometry);
+  const SimulationConfig::Camera& ca = a.camera;
+  const SimulationConfig::Camera& cb = b.camera;
+  EXPECT_EQ(ca.fx, cb.fx);
+  EXPECT_EQ(ca.fy, cb.fy);
+  EXPECT_EQ(ca.cx, cb.cx);
+  EXPECT_EQ(ca.cy, cb.cy);
+  EXPECT_EQ(ca.width, cb.width);
+  EXPECT_EQ(ca.height, cb.height);
+  EXPECT_EQ(ca.baseline, cb.baseline);
+  EXPECT_EQ(ca.k1, cb.k1);
+  EXPECT_EQ(ca.k2, cb.k2);
+  EXPECT_EQ(ca.p1, cb.p1);
+  EXPECT_EQ(ca.p2, cb.p2);
+  EXPECT_EQ(ca.min_depth, cb.min_depth);
+  EXPECT_EQ(ca.max_depth, cb.max_depth);
 }
 
 // The files written for a config hold exactly what Simulate produces.
@@ -58,8 +89,8 @@ void CheckWrittenDataset(const std::string& dir,
   ASSERT_TRUE(Simulate(config, &expected, &error)) << error;
 
   Graph graph;
-  ASSERT_TRUE(ReadG2o(dir + "/graph.g2o", GraphReadOptions(), &graph, nullptr,
-                      &error))
+  ASSERT_TRUE(
+      ReadG2o(dir + "/graph.g2o", GraphReadOptions(), &graph, nullptr, &error))
       << error;
   ASSERT_EQ(graph.NumNodes(), expected.graph.NumNodes());
   ASSERT_EQ(graph.NumFactors(), expected.graph.NumFactors());
@@ -129,8 +160,7 @@ void CheckWrittenDataset(const std::string& dir,
 TEST(SimulateCommandTest, WritesGraphTruthAndTrajectory2d) {
   const std::string dir = TempDir() + "/out";
   const std::string log = TempDir() + "/log";
-  ASSERT_EQ(RunSlam("simulate -o " + dir + " --num_poses 200 --seed 5", log),
-            0)
+  ASSERT_EQ(RunSlam("simulate -o " + dir + " --num_poses 200 --seed 5", log), 0)
       << ReadText(log);
   EXPECT_NE(ReadText(log).find("200 poses"), std::string::npos)
       << ReadText(log);
@@ -165,11 +195,67 @@ TEST(SimulateCommandTest, WritesSphere3dWithOutliers) {
   // A later run without outliers into the same directory removes the
   // stale outliers.txt.
   ASSERT_TRUE(Exists(dir + "/outliers.txt"));
-  ASSERT_EQ(RunSlam("simulate -o " + dir + " --world sphere3d --num_poses 150",
-                    log),
-            0)
+  ASSERT_EQ(
+      RunSlam("simulate -o " + dir + " --world sphere3d --num_poses 150", log),
+      0)
       << ReadText(log);
   EXPECT_FALSE(Exists(dir + "/outliers.txt"));
+}
+
+// Landmark worlds: graph, truth (with the landmarks) and landmarks.txt; a
+// later pose-graph run into the same directory removes landmarks.txt.
+TEST(SimulateCommandTest, WritesLandmarkWorlds) {
+  const std::string tmp = TempDir();
+  const std::string log = tmp + "/log";
+  for (const std::string world :
+       {"landmarks2d", "landmarks3d", "stereo", "monocular"}) {
+    SCOPED_TRACE(world);
+    const std::string dir = tmp + "/" + world;
+    ASSERT_EQ(RunSlam("simulate -o " + dir + " --world " + world +
+                          " --num_poses 40 --num_landmarks 60 --seed 4",
+                      log),
+              0)
+        << ReadText(log);
+    SimulationConfig config;
+    config.world.type = world;
+    config.world.num_poses = 40;
+    config.landmarks.num_landmarks = 60;
+    config.seed = 4;
+    SimulationResult expected;
+    std::string error;
+    ASSERT_TRUE(Simulate(config, &expected, &error)) << error;
+    // The landmarks kept (seen often enough) are counted.
+    EXPECT_NE(
+        ReadText(log).find(", " + std::to_string(expected.landmarks.size()) +
+                           " landmarks, "),
+        std::string::npos)
+        << ReadText(log);
+    CheckWrittenDataset(dir, config);
+    std::istringstream in(ReadText(dir + "/landmarks.txt"));
+    std::string line;
+    size_t count = 0;
+    while (std::getline(in, line)) {
+      if (line.empty() || line[0] == '#') continue;
+      ASSERT_LT(count, expected.landmarks.size());
+      const Key key = expected.landmarks[count++];
+      std::istringstream fields(line);
+      int64_t id = -1;
+      fields >> id;
+      EXPECT_EQ(id, key.id);
+      std::vector<double> value;
+      double v;
+      while (fields >> v) value.push_back(v);
+      EXPECT_EQ(value, expected.ground_truth.at(key));
+    }
+    EXPECT_EQ(count, expected.landmarks.size());
+  }
+  const std::string dir = tmp + "/stale";
+  ASSERT_EQ(
+      RunSlam("simulate -o " + dir + " --world stereo --num_poses 20", log), 0);
+  ASSERT_TRUE(Exists(dir + "/landmarks.txt"));
+  ASSERT_EQ(RunSlam("simulate -o " + dir + " --num_poses 20", log), 0);
+  EXPECT_FALSE(Exists(dir + "/landmarks.txt"));
+  EXPECT_NE(ReadText(log).find("removed"), std::string::npos);
 }
 
 TEST(SimulateCommandTest, FlagsOverrideEveryNoiseSetting) {
@@ -215,6 +301,28 @@ TEST(SimulateCommandTest, DumpConfigRoundTrips) {
 
   ASSERT_EQ(RunSlam("simulate --config " + a + " --dump_config > " + b), 0);
   EXPECT_EQ(ReadText(a), ReadText(b));
+
+  // Landmark and camera settings.
+  SimulationConfig landmarks;
+  landmarks.world.type = "monocular";
+  landmarks.landmarks.num_landmarks = 77;
+  landmarks.landmarks.observations = "both";
+  landmarks.landmarks.sensor_offset = {0.1, -0.2, 0.3, 0.0, 0.6, 0.0, 0.8};
+  landmarks.landmarks.odometry = false;
+  landmarks.landmarks.field_of_view = 1.234;
+  landmarks.camera.k1 = -0.21;
+  landmarks.camera.width = 752;
+  WriteText(a, SimulationConfigToYaml(landmarks));
+  ASSERT_EQ(RunSlam("simulate --config " + a + " --dump_config > " + b), 0);
+  EXPECT_EQ(ReadText(a), ReadText(b));
+  ASSERT_TRUE(LoadSimulationConfig(b, &loaded, &error)) << error;
+  ExpectSameConfig(loaded, landmarks);
+  ASSERT_EQ(RunSlam("simulate --config " + a +
+                    " --num_landmarks 12 --dump_config > " + b),
+            0);
+  landmarks.landmarks.num_landmarks = 12;
+  ASSERT_TRUE(LoadSimulationConfig(b, &loaded, &error)) << error;
+  ExpectSameConfig(loaded, landmarks);
 }
 
 TEST(SimulateCommandTest, DefaultsDumpAsTheDocumentedConfig) {
@@ -224,8 +332,8 @@ TEST(SimulateCommandTest, DefaultsDumpAsTheDocumentedConfig) {
   // configs/simulate_2d.yaml is the default, written out.
   SimulationConfig loaded;
   std::string error;
-  ASSERT_TRUE(LoadSimulationConfig(ConfigsDir() + "/simulate_2d.yaml",
-                                   &loaded, &error))
+  ASSERT_TRUE(
+      LoadSimulationConfig(ConfigsDir() + "/simulate_2d.yaml", &loaded, &error))
       << error;
   ExpectSameConfig(loaded, SimulationConfig());
 }
@@ -241,11 +349,24 @@ TEST(SimulateCommandTest, ShippedConfigsLoadAndSimulate) {
     std::string error;
     ASSERT_TRUE(LoadSimulationConfig(entry.path().string(), &config, &error))
         << error;
+    // --dump_config prints it back exactly.
+    const std::string dump = TempDir() + "/dump.yaml";
+    ASSERT_EQ(RunSlam("simulate --config " + entry.path().string() +
+                      " --dump_config > " + dump),
+              0);
+    SimulationConfig dumped;
+    ASSERT_TRUE(LoadSimulationConfig(dump, &dumped, &error)) << error;
+    ExpectSameConfig(dumped, config);
     SimulationResult result;
     ASSERT_TRUE(Simulate(config, &result, &error)) << error;
-    EXPECT_GT(result.loop_closure_factors.size(), 100u);
+    if (result.landmarks.empty()) {
+      EXPECT_GT(result.loop_closure_factors.size(), 100u);
+    } else {
+      EXPECT_GT(result.landmarks.size(), 20u);
+      EXPECT_GT(result.landmark_factors.size(), 100u);
+    }
   }
-  EXPECT_GE(count, 2);
+  EXPECT_GE(count, 6);
 }
 
 TEST(SimulateCommandTest, ConfigFileThenFlags) {
@@ -276,8 +397,9 @@ TEST(SimulateCommandTest, UnknownYamlKeyFailsNamingFileAndKey) {
   const std::string log = tmp + "/log";
   const std::string config = tmp + "/bad.yaml";
   const std::string dir = tmp + "/out";
-  WriteText(config, "simulate:\n  world:\n    num_poses: 10\n"
-                    "    typo_key: 1\n");
+  WriteText(config,
+            "simulate:\n  world:\n    num_poses: 10\n"
+            "    typo_key: 1\n");
   EXPECT_EQ(RunSlam("simulate --config " + config + " -o " + dir, log), 2);
   const std::string message = ReadText(log);
   EXPECT_NE(message.find(config + ":4: unknown key 'typo_key'"),
@@ -300,7 +422,23 @@ TEST(SimulateCommandTest, BadConfigFilesAreErrors) {
   const Case cases[] = {
       {"simulate:\n  world:\n    num_poses: 10\n    typo_key: 1\n",
        ":4: unknown key 'typo_key'"},
-      {"simulate:\n  seed: 1\n  landmarks: {}\n", "'landmarks'"},
+      {"simulate:\n  seed: 1\n  imu: {}\n", "'imu'"},
+      {"simulate:\n  landmarks:\n    sigma: 1\n", ":3: unknown key 'sigma'"},
+      {"simulate:\n  camera:\n    focal: 1\n", ":3: unknown key 'focal'"},
+      {"simulate:\n  landmarks:\n    observations: radar\n",
+       "simulate.landmarks.observations 'radar'"},
+      {"simulate:\n  landmarks:\n    sensor_offset: [0, 0, 0]\n",
+       "simulate.landmarks.sensor_offset"},
+      {"simulate:\n  landmarks:\n    sensor_offset: [0, 0, 0, 0, 0, 0, 2]\n",
+       "unit length"},
+      {"simulate:\n  landmarks:\n    sensor_offset: 3\n",
+       "'sensor_offset' (line 3)"},
+      {"simulate:\n  landmarks:\n    odometry: maybe\n", "'odometry' (line 3)"},
+      {"simulate:\n  landmarks:\n    sigma_pixel: 0\n",
+       "simulate.landmarks.sigma_pixel"},
+      {"simulate:\n  camera:\n    fx: -400\n", "simulate.camera.fx"},
+      {"simulate:\n  camera:\n    max_depth: 0.1\n",
+       "simulate.camera.max_depth"},
       {"simualte:\n  seed: 1\n", "'simualte'"},
       {"simulate:\n  odometry:\n    sigma: 1\n", "'sigma'"},
       {"simulate:\n  loop_closures:\n    outliers: 1\n", "'outliers'"},

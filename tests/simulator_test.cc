@@ -54,8 +54,7 @@ double PositionRmse(const Graph& graph,
                     bool is_3d) {
   double sum = 0.0;
   for (const auto& [key, node] : graph.nodes()) {
-    sum += (Position(node->value, is_3d) -
-            Position(reference.at(key), is_3d))
+    sum += (Position(node->value, is_3d) - Position(reference.at(key), is_3d))
                .squaredNorm();
   }
   return std::sqrt(sum / graph.NumNodes());
@@ -83,8 +82,7 @@ OptimizerSummary Solve(Graph* graph, InitMethod init) {
   return Optimize(graph, options, nullptr);
 }
 
-void SetLoss(const SimulationResult& result,
-             const std::vector<FactorId>& ids,
+void SetLoss(const SimulationResult& result, const std::vector<FactorId>& ids,
              const std::shared_ptr<ceres::LossFunction>& loss) {
   // The graph hands out factors read-only; the loss is not part of the
   // structure Ceres sees until BuildProblem, so setting it here is safe.
@@ -155,6 +153,42 @@ TEST(SimulatorTest, RejectsInvalidConfigs) {
        [](SimulationConfig* c) { c->loop_closures.min_index_gap = 1; }},
       {"loop_closures.outlier_fraction",
        [](SimulationConfig* c) { c->loop_closures.outlier_fraction = 1.0; }},
+      // Landmark and camera settings (checked for every world type).
+      {"landmarks.num_landmarks",
+       [](SimulationConfig* c) { c->landmarks.num_landmarks = 0; }},
+      {"landmarks.observations",
+       [](SimulationConfig* c) { c->landmarks.observations = "sonar"; }},
+      {"landmarks.max_range",
+       [](SimulationConfig* c) { c->landmarks.max_range = -1; }},
+      {"landmarks.field_of_view",
+       [](SimulationConfig* c) { c->landmarks.field_of_view = 7.0; }},
+      {"landmarks.sigma_bearing",
+       [](SimulationConfig* c) { c->landmarks.sigma_bearing = NAN; }},
+      {"landmarks.sigma_pixel",
+       [](SimulationConfig* c) { c->landmarks.sigma_pixel = 0.0; }},
+      {"landmarks.min_observations",
+       [](SimulationConfig* c) { c->landmarks.min_observations = 0; }},
+      {"landmarks.sensor_offset",
+       [](SimulationConfig* c) {
+         c->landmarks.sensor_offset = {1, 2};
+       }},
+      {"landmarks.sensor_offset",
+       [](SimulationConfig* c) {
+         c->landmarks.sensor_offset = {0, 0, 0, 0, 0, 0, 0.5};
+       }},
+      {"camera.fx", [](SimulationConfig* c) { c->camera.fx = 0.0; }},
+      {"camera.baseline",
+       [](SimulationConfig* c) { c->camera.baseline = -0.1; }},
+      {"camera.k1", [](SimulationConfig* c) { c->camera.k1 = INFINITY; }},
+      {"camera.width", [](SimulationConfig* c) { c->camera.width = 0; }},
+      {"camera.max_depth",
+       [](SimulationConfig* c) { c->camera.max_depth = 0.2; }},
+      {"world.num_poses",  // Monocular BA fixes two poses.
+       [](SimulationConfig* c) {
+         c->world.type = "monocular";
+         c->landmarks.odometry = false;
+         c->world.num_poses = 2;
+       }},
   };
   for (const Case& test_case : cases) {
     SimulationConfig config;
@@ -209,7 +243,7 @@ TEST(SimulatorTest, Grid2dStructure) {
       EXPECT_NEAR(std::cos(p.theta) * step.x() + std::sin(p.theta) * step.y(),
                   1.0, 1e-12);
       EXPECT_LE(std::abs(d.theta), M_PI / 2 + 1e-12);  // No U-turns
-                                                        // inside the grid.
+                                                       // inside the grid.
     }
   }
 
@@ -359,8 +393,7 @@ TEST(SimulatorTest, OutliersAreWrongLoopClosures) {
   SimulateOrDie(config, &r);
   const size_t outliers = r.outlier_factors.size();
   const size_t inliers = r.loop_closure_factors.size() - outliers;
-  EXPECT_EQ(outliers,
-            static_cast<size_t>(std::llround(0.2 / 0.8 * inliers)));
+  EXPECT_EQ(outliers, static_cast<size_t>(std::llround(0.2 / 0.8 * inliers)));
   SetNodeValues(r.ground_truth, &r.graph);
   std::vector<double> chi2;
   for (FactorId id : r.outlier_factors) {
@@ -475,8 +508,8 @@ TEST(SimulatorTest, SetNodeValuesSetsOnlyKnownKeys) {
   SimulationResult r;
   SimulateOrDie(Config("grid2d", 10, 1), &r);
   std::map<Key, std::vector<double>> values = r.ground_truth;
-  values[Pose2Key(99)] = {1.0, 2.0, 3.0};   // Not in the graph: ignored.
-  values[Pose3Key(1)] = {1.0, 2.0, 3.0};    // Not in the graph: ignored.
+  values[Pose2Key(99)] = {1.0, 2.0, 3.0};  // Not in the graph: ignored.
+  values[Pose3Key(1)] = {1.0, 2.0, 3.0};   // Not in the graph: ignored.
   SetNodeValues(values, &r.graph);
   for (const auto& [key, node] : r.graph.nodes()) {
     EXPECT_EQ(node->value, r.ground_truth.at(key));
