@@ -93,6 +93,30 @@ TEST(LandmarkDataTest, VictoriaParkConvergesWithRobustLandmarks) {
   EXPECT_LT(odometry_chi2 / odometry, 10.0);
 }
 
+// The shipped Victoria Park config through the command line: converges and
+// draws the map.
+TEST(LandmarkDataTest, VictoriaParkConfigThroughTheCommandLine) {
+  const std::string path = DatasetPath("isam_format/isam_victoriaPark.txt");
+  SLAM_REQUIRE_DATASET(path);
+  const std::string dir = ::slam::testing::TempDir();
+  const std::string log = dir + "/log.txt";
+  ASSERT_EQ(::slam::testing::RunSlam(
+                "optimize --config " +
+                    ::slam::testing::ConfigPath("victoria_park.yaml") +
+                    " -i " + path + " -o " + dir + "/vp.g2o --plot " + dir +
+                    "/plots --report " + dir + "/report.json --quiet",
+                log),
+            0)
+      << ::slam::testing::ReadText(log);
+  EXPECT_TRUE(::slam::testing::Exists(dir + "/plots/map.png"));
+  Graph back;
+  std::string error;
+  ASSERT_TRUE(ReadG2o(dir + "/vp.g2o", {}, &back, nullptr, &error)) << error;
+  EXPECT_EQ(back.NumNodes(), 6969u + 151u);
+  // The g2o file has no robust kernels: its plain chi2 is the optimum's.
+  EXPECT_LT(back.Chi2(), 10608.0);
+}
+
 Graph ReadKitti(StereoVoReport* report) {
   Graph graph;
   std::string error;

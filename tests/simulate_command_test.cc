@@ -23,9 +23,7 @@ using ::slam::testing::RunSlam;
 using ::slam::testing::TempDir;
 using ::slam::testing::WriteText;
 
-std::string ConfigsDir() {
-  return std::string(SLAM_TEST_DATA_DIR) + "/../../configs";
-}
+std::string ConfigsDir() { return ::slam::testing::ConfigPath(""); }
 
 void ExpectSameConfig(const SimulationConfig& a, const SimulationConfig& b) {
   EXPECT_EQ(a.seed, b.seed);

@@ -30,6 +30,11 @@ inline std::string FixturePath(const std::string& name) {
   return std::string(SLAM_TEST_DATA_DIR) + "/" + name;
 }
 
+// The shipped configs (configs/ at the repository root).
+inline std::string ConfigPath(const std::string& name) {
+  return std::string(SLAM_TEST_DATA_DIR) + "/../../configs/" + name;
+}
+
 // A fresh empty directory under the system temp dir, named after the test.
 inline std::string TempDir() {
   const ::testing::TestInfo* info =
