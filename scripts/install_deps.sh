@@ -8,7 +8,7 @@ packages=(
   libceres-dev libeigen3-dev libsuitesparse-dev
   libopencv-dev libgflags-dev libgoogle-glog-dev libyaml-cpp-dev
   libgtest-dev libgmock-dev
-  python3 python3-yaml zlib1g-dev
+  python3 python3-yaml zlib1g-dev libbz2-dev
 )
 
 missing=()
