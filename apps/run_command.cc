@@ -1,0 +1,186 @@
+// slam run: 2D laser SLAM on a CARMEN log (frontends/laser/laser_slam.h).
+//
+//   slam run --config configs/aces.yaml [--datasets DIR] [--output_dir DIR]
+//
+// The log (and the optional relations file) are named relative to the
+// datasets directory: --datasets, else $SLAM_DATASETS, else
+// ../shared/datasets beside the repository holding the config file (the
+// config's directory's parent), else ../shared/datasets from the working
+// directory. Absolute paths are used as they are.
+//
+// Outputs in output_dir: trajectory.tum (every scan's robot pose, TUM),
+// graph.g2o (the keyframe pose graph), and the occupancy-grid map when
+// enabled. Progress bars while reading and processing; a summary at the end.
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include <gflags/gflags.h>
+
+#include "apps/commands.h"
+#include "apps/common_flags.h"
+#include "apps/run_config.h"
+#include "datasets/carmen_io.h"
+#include "datasets/g2o_io.h"
+#include "datasets/trajectory_io.h"
+#include "frontends/laser/laser_slam.h"
+
+DEFINE_string(datasets, "",
+              "run: datasets directory the log path is relative to (default "
+              "$SLAM_DATASETS, else ../shared/datasets beside the repository)");
+DEFINE_string(output_dir, "", "run: output directory (overrides the config)");
+
+namespace slam {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A one-line progress bar on stderr, redrawn when the percentage changes.
+class ProgressBar {
+public:
+  explicit ProgressBar(const char *label) : label_(label) {}
+  void Update(double fraction) {
+    const int percent = static_cast<int>(fraction * 100.0);
+    if (percent == last_)
+      return;
+    last_ = percent;
+    const int filled = percent / 4;
+    std::fprintf(stderr, "\r%-12s [%s%s] %3d%%", label_,
+                 std::string(filled, '#').c_str(),
+                 std::string(25 - filled, '.').c_str(), percent);
+    if (percent >= 100)
+      std::fprintf(stderr, "\n");
+    std::fflush(stderr);
+  }
+  void Done() { Update(1.0); }
+
+private:
+  const char *label_;
+  int last_ = -1;
+};
+
+std::string ResolveDataPath(const std::string &path) {
+  if (path.empty() || fs::path(path).is_absolute())
+    return path;
+  std::vector<std::string> dirs;
+  if (!FLAGS_datasets.empty()) {
+    dirs.push_back(FLAGS_datasets);
+  } else {
+    if (const char *env = std::getenv("SLAM_DATASETS"))
+      dirs.push_back(env);
+    if (!FLAGS_config.empty()) {
+      dirs.push_back((fs::absolute(FLAGS_config).parent_path().parent_path() /
+                      ".." / "shared" / "datasets")
+                         .string());
+    }
+    dirs.push_back("../shared/datasets");
+  }
+  for (const std::string &dir : dirs) {
+    const fs::path candidate = fs::path(dir) / path;
+    if (fs::exists(candidate))
+      return candidate.string();
+  }
+  return (fs::path(dirs.front()) / path).string();
+}
+
+double Since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+      .count();
+}
+
+} // namespace
+
+int RunRunCommand(const std::vector<std::string> &args) {
+  if (!args.empty()) {
+    std::cerr << "run: unexpected argument '" << args[0] << "'\n";
+    return 2;
+  }
+  RunConfig config;
+  std::string error;
+  if (!FLAGS_config.empty() && !LoadRunConfig(FLAGS_config, &config, &error)) {
+    std::cerr << error << "\n";
+    return 1;
+  }
+  if (!FLAGS_output_dir.empty())
+    config.output_dir = FLAGS_output_dir;
+  if (FLAGS_dump_config) {
+    std::cout << RunConfigToYaml(config);
+    return 0;
+  }
+  if (config.log.empty()) {
+    std::cerr << "run: no log named (run.log in --config)\n";
+    return 2;
+  }
+  const auto start = std::chrono::steady_clock::now();
+  const std::string log_path = ResolveDataPath(config.log);
+  CarmenLog log;
+  {
+    ProgressBar bar("reading");
+    if (!ReadCarmenLog(log_path, config.lasers, &log, &error,
+                       [&bar](double f) { bar.Update(f); })) {
+      std::cerr << "\n" << error << "\n";
+      return 1;
+    }
+    bar.Done();
+  }
+  for (const std::string &w : log.warnings)
+    std::cerr << "warning: " << w << "\n";
+  if (log.scans.empty()) {
+    std::cerr << log_path << ": no laser scans of the selected lasers\n";
+    return 1;
+  }
+  const double read_seconds = Since(start);
+
+  const auto slam_start = std::chrono::steady_clock::now();
+  LaserSlam slam(config.slam);
+  {
+    ProgressBar bar("processing");
+    for (size_t i = 0; i < log.scans.size(); ++i) {
+      slam.AddScan(log.scans[i]);
+      bar.Update(static_cast<double>(i + 1) / log.scans.size());
+    }
+  }
+  slam.Finish();
+  const double slam_seconds = Since(slam_start);
+
+  std::error_code ec;
+  fs::create_directories(config.output_dir, ec);
+  if (ec) {
+    std::cerr << config.output_dir
+              << ": cannot create directory: " << ec.message() << "\n";
+    return 1;
+  }
+  const std::string trajectory_path =
+      (fs::path(config.output_dir) / "trajectory.tum").string();
+  const std::string graph_path =
+      (fs::path(config.output_dir) / "graph.g2o").string();
+  if (!WriteTrajectory(trajectory_path, slam.ScanTrajectory(),
+                       TrajectoryFormat::kTum, &error) ||
+      !WriteG2o(graph_path, slam.graph(), &error)) {
+    std::cerr << error << "\n";
+    return 1;
+  }
+
+  const LaserSlamStats &s = slam.stats();
+  std::printf(
+      "run: %d scans, %d keyframes; tracking: %d correlative, %d odometry "
+      "only; loop closures: %d proposed, %d accepted, %d rejected; %d "
+      "optimizations\n",
+      s.scans, s.keyframes, s.tracking_correlative, s.tracking_failures,
+      s.closures_proposed, s.closures_accepted, s.closures_rejected,
+      s.optimizations);
+  std::printf(
+      "run: time %.2f s (read %.2f s, slam %.2f s: matching %.2f, loops %.2f, "
+      "optimization %.2f)\n",
+      Since(start), read_seconds, slam_seconds, s.matching_seconds,
+      s.loop_seconds, s.optimization_seconds);
+  std::printf("run: wrote %s, %s\n", trajectory_path.c_str(),
+              graph_path.c_str());
+  return 0;
+}
+
+} // namespace slam

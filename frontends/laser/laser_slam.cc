@@ -1,0 +1,302 @@
+#include "frontends/laser/laser_slam.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+
+#include "factors/pose_factors.h"
+
+namespace slam {
+namespace {
+
+double Seconds(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+      .count();
+}
+
+bool SmallMotion(const Pose2 &a, const Pose2 &b, double max_distance,
+                 double max_angle) {
+  return (a.t - b.t).norm() <= max_distance &&
+         std::abs(NormalizeAngle(a.theta - b.theta)) <= max_angle;
+}
+
+} // namespace
+
+LaserSlam::LaserSlam(const LaserSlamConfig &config) : config_(config) {}
+
+Pose2 LaserSlam::KeyframePose(size_t k) const {
+  return NodePose2(*graph_.FindNode(Pose2Key(static_cast<int64_t>(k))));
+}
+
+void LaserSlam::AddBetween(int i, int j, const Pose2 &z,
+                           const Eigen::Matrix3d &cov,
+                           std::shared_ptr<ceres::LossFunction> loss,
+                           bool loop) {
+  Factor factor;
+  std::string error;
+  const Eigen::Matrix3d information = cov.inverse();
+  if (!MakeBetweenSE2(Pose2Key(i), Pose2Key(j), z,
+                      0.5 * (information + information.transpose()), &factor,
+                      &error)) {
+    return; // Not positive definite: the measurement carries no weight.
+  }
+  factor.loss = std::move(loss);
+  const FactorId id = graph_.AddFactor(std::move(factor));
+  if (loop && id >= 0)
+    loop_factors_.push_back(id);
+}
+
+void LaserSlam::AddScan(const LaserScan &scan) {
+  const auto start = std::chrono::steady_clock::now();
+  ++stats_.scans;
+  Points2 points = RangesToPoints(
+      scan.ranges, scan.angle_min, scan.angle_increment, config_.min_range,
+      std::min(config_.max_range,
+               scan.max_range > 0 ? scan.max_range : config_.max_range));
+  points = VoxelFilter(TransformPoints(scan.laser_offset, points),
+                       config_.voxel_size);
+
+  if (keyframes_.empty()) {
+    tracked_ = scan.odom;
+    last_odom_ = scan.odom;
+    AddKeyframe(scan, points, nullptr);
+    scans_.push_back({scan.stamp, 0, Pose2()});
+    stats_.matching_seconds += Seconds(start);
+    return;
+  }
+
+  path_ += (scan.odom.t - last_odom_.t).norm();
+  const Pose2 predicted = tracked_ * (last_odom_.Inverse() * scan.odom);
+  last_odom_ = scan.odom;
+  MatchResult match;
+  bool matched = false;
+  if (points.size() >= 10 && !local_submap_.empty()) {
+    const double jump = config_.max_tracking_jump;
+    auto good = [&](const MatchResult &m, double scale) {
+      return m.success && m.fitness >= config_.min_tracking_fitness &&
+             SmallMotion(m.pose, predicted, scale * jump, scale * jump);
+    };
+    if (config_.always_correlative) {
+      match = local_submap_.Match(points, predicted, config_.local_correlative,
+                                  config_.icp);
+      matched = good(match, 2.0);
+    } else {
+      match = local_submap_.Icp(points, predicted, config_.icp);
+      matched = good(match, 1.0);
+      if (!matched) {
+        ++stats_.tracking_correlative;
+        const MatchResult second = local_submap_.Match(
+            points, predicted, config_.local_correlative, config_.icp);
+        if (good(second, 2.0) &&
+            (!matched || second.num_inliers > match.num_inliers)) {
+          match = second;
+          matched = true;
+        }
+      }
+    }
+  }
+  if (!matched)
+    ++stats_.tracking_failures;
+  if (std::getenv("LASER_DEBUG") && stats_.scans < 400)
+    std::fprintf(
+        stderr,
+        "scan %d pts %zu submap %zu succ %d fit %.3f corr %d inl %d rmse %.4f "
+        "it %d matched %d pred %.3f %.3f %.3f got %.3f %.3f %.3f sc %.2f\n",
+        stats_.scans, points.size(), local_submap_.points().size(),
+        match.success, match.fitness, match.num_correspondences,
+        match.num_inliers, match.rmse, match.iterations, matched,
+        predicted.t.x(), predicted.t.y(), predicted.theta, match.pose.t.x(),
+        match.pose.t.y(), match.pose.theta, match.score);
+  tracked_ = matched ? match.pose : predicted;
+  stats_.matching_seconds += Seconds(start);
+
+  const int last = static_cast<int>(keyframes_.size()) - 1;
+  const Pose2 last_pose = KeyframePose(last);
+  if (!SmallMotion(tracked_, last_pose, config_.keyframe_distance,
+                   config_.keyframe_rotation)) {
+    AddKeyframe(scan, points, matched ? &match : nullptr);
+    const int k = static_cast<int>(keyframes_.size()) - 1;
+    scans_.push_back({scan.stamp, k, Pose2()});
+    if (config_.loop_closure) {
+      const auto loop_start = std::chrono::steady_clock::now();
+      if (DetectLoopClosures(k))
+        pending_loop_ = true;
+      stats_.loop_seconds += Seconds(loop_start);
+    }
+    const bool loop_due = pending_loop_ && k - last_optimized_keyframe_ >=
+                                               config_.loop_optimize_interval;
+    const bool periodic =
+        config_.optimize_every > 0 &&
+        k - last_optimized_keyframe_ >= config_.optimize_every;
+    if (loop_due || periodic) {
+      OptimizeGraph(config_.incremental_iterations);
+      pending_loop_ = false;
+      last_optimized_keyframe_ = k;
+    }
+  } else {
+    scans_.push_back({scan.stamp, last, last_pose.Inverse() * tracked_});
+  }
+}
+
+void LaserSlam::AddKeyframe(const LaserScan &scan, const Points2 &points,
+                            const MatchResult *match) {
+  const int k = static_cast<int>(keyframes_.size());
+  Node *node = graph_.AddNode(Pose2Key(k), Pose2Value(tracked_));
+  node->stamp = scan.stamp;
+  node->has_stamp = true;
+  if (k == 0)
+    graph_.SetFixed(Pose2Key(0), true);
+  keyframes_.push_back({scan.stamp, points, scan.odom, path_});
+  ++stats_.keyframes;
+  if (k > 0) {
+    const Pose2 prev = KeyframePose(k - 1);
+    if (match != nullptr) {
+      AddBetween(k - 1, k, prev.Inverse() * tracked_, match->covariance,
+                 nullptr, false);
+    }
+    const OdometryDelta odom =
+        OdometryMotion(keyframes_[k - 1].odom, scan.odom, config_.odometry);
+    AddBetween(k - 1, k, odom.delta, odom.covariance, nullptr, false);
+  }
+  RebuildLocalSubmap();
+}
+
+void LaserSlam::RebuildLocalSubmap() {
+  const int n = static_cast<int>(keyframes_.size());
+  Points2 world;
+  for (int k = std::max(0, n - config_.submap_keyframes); k < n; ++k) {
+    const Points2 p = TransformPoints(KeyframePose(k), keyframes_[k].points);
+    world.insert(world.end(), p.begin(), p.end());
+  }
+  local_submap_.Build(VoxelFilter(world, config_.submap_voxel),
+                      config_.icp.max_correspondence_distance,
+                      config_.normal_radius);
+}
+
+bool LaserSlam::DetectLoopClosures(int k) {
+  const Keyframe &current = keyframes_[k];
+  if (current.points.size() < 20)
+    return false;
+  const Pose2 pose_k = KeyframePose(k);
+  struct Candidate {
+    double distance;
+    int index;
+  };
+  std::vector<Candidate> candidates;
+  for (int j = 0; j < k - config_.submap_keyframes; ++j) {
+    const double separation = current.path - keyframes_[j].path;
+    if (separation < config_.loop_min_separation)
+      continue;
+    const double radius = std::min(config_.loop_max_radius,
+                                   config_.loop_search_radius +
+                                       config_.loop_radius_growth * separation);
+    const double d = (KeyframePose(j).t - pose_k.t).norm();
+    if (d <= radius)
+      candidates.push_back({d, j});
+  }
+  std::sort(candidates.begin(), candidates.end(),
+            [](const Candidate &a, const Candidate &b) {
+              return a.distance < b.distance;
+            });
+  std::vector<int> chosen;
+  for (const Candidate &c : candidates) {
+    if (static_cast<int>(chosen.size()) >= config_.loop_max_candidates)
+      break;
+    bool near_chosen = false;
+    for (int j : chosen) {
+      near_chosen |=
+          std::abs(j - c.index) <= 2 * config_.loop_submap_half_width;
+    }
+    if (!near_chosen)
+      chosen.push_back(c.index);
+  }
+  bool accepted = false;
+  for (int j : chosen) {
+    ++stats_.closures_proposed;
+    const Pose2 pose_j = KeyframePose(j);
+    const Pose2 j_inv = pose_j.Inverse();
+    Points2 submap;
+    const int lo = std::max(0, j - config_.loop_submap_half_width);
+    const int hi = std::min(k - config_.submap_keyframes,
+                            j + config_.loop_submap_half_width);
+    for (int m = lo; m <= hi; ++m) {
+      const Points2 p =
+          TransformPoints(j_inv * KeyframePose(m), keyframes_[m].points);
+      submap.insert(submap.end(), p.begin(), p.end());
+    }
+    MatchTarget target;
+    target.Build(VoxelFilter(submap, config_.submap_voxel),
+                 config_.icp.max_correspondence_distance,
+                 config_.normal_radius);
+    const MatchResult match = target.Match(
+        current.points, j_inv * pose_k, config_.loop_correlative, config_.icp);
+    if (!match.success || match.score < config_.loop_min_score ||
+        match.fitness < config_.loop_min_fitness) {
+      continue;
+    }
+    AddBetween(j, k, match.pose, match.covariance,
+               MakeLoss(config_.loop_kernel), true);
+    ++stats_.closures_accepted;
+    accepted = true;
+  }
+  return accepted;
+}
+
+void LaserSlam::OptimizeGraph(int max_iterations) {
+  if (graph_.NumFactors() == 0)
+    return;
+  const auto start = std::chrono::steady_clock::now();
+  const int last = static_cast<int>(keyframes_.size()) - 1;
+  const Pose2 relative = KeyframePose(last).Inverse() * tracked_;
+  OptimizerOptions options = config_.optimizer;
+  options.verbose = false;
+  if (max_iterations > 0)
+    options.max_iterations = max_iterations;
+  Optimize(&graph_, options, nullptr);
+  ++stats_.optimizations;
+  tracked_ = KeyframePose(last) * relative;
+  RebuildLocalSubmap();
+  stats_.optimization_seconds += Seconds(start);
+}
+
+void LaserSlam::Finish() {
+  if (keyframes_.empty())
+    return;
+  OptimizeGraph(0);
+  // Closures the robust kernel has switched off.
+  std::vector<FactorId> rejected;
+  for (FactorId id : loop_factors_) {
+    const Factor *factor = graph_.FindFactor(id);
+    double chi2 = 0.0;
+    if (factor == nullptr || !graph_.FactorChi2(*factor, &chi2))
+      continue;
+    double rho[3] = {chi2, 1.0, 0.0};
+    if (factor->loss)
+      factor->loss->Evaluate(chi2, rho);
+    if (rho[1] < config_.loop_reject_weight)
+      rejected.push_back(id);
+  }
+  stats_.closures_rejected = static_cast<int>(rejected.size());
+  if (!rejected.empty()) {
+    for (FactorId id : rejected)
+      graph_.RemoveFactor(id);
+    loop_factors_.erase(
+        std::remove_if(loop_factors_.begin(), loop_factors_.end(),
+                       [&](FactorId id) { return !graph_.FindFactor(id); }),
+        loop_factors_.end());
+    OptimizeGraph(0);
+  }
+}
+
+Trajectory LaserSlam::ScanTrajectory() const {
+  Trajectory out;
+  out.reserve(scans_.size());
+  for (const ScanRecord &s : scans_) {
+    out.push_back({s.stamp, LiftPose2(KeyframePose(s.keyframe) * s.relative)});
+  }
+  return out;
+}
+
+} // namespace slam
