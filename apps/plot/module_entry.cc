@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "apps/eval_report.h"
+#include "apps/plot/map_plot.h"
 
 // The module's entry point, looked up by name (apps/plot_module.h).
 extern "C" bool SlamWriteEvalPlots(const std::string& dir,
@@ -14,4 +15,12 @@ extern "C" bool SlamWriteEvalPlots(const std::string& dir,
                                    std::string* error) {
   return slam::WriteEvalPlotsImpl(dir, result, settings, labels, written,
                                   error);
+}
+
+// The occupancy-grid map with the trajectory (apps/map_png.h).
+extern "C" bool SlamWriteMapPng(const std::string& path,
+                                const slam::MapImage& image,
+                                const std::vector<Eigen::Vector2d>& trajectory,
+                                std::string* error) {
+  return slam::WriteMapPngImpl(path, image, trajectory, error);
 }
