@@ -11,6 +11,8 @@
 // Outputs in output_dir: trajectory.tum (every scan's robot pose, TUM),
 // graph.g2o (the keyframe pose graph), and the occupancy-grid map when
 // enabled. Progress bars while reading and processing; a summary at the end.
+#include <gflags/gflags.h>
+
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -19,15 +21,15 @@
 #include <string>
 #include <vector>
 
-#include <gflags/gflags.h>
-
 #include "apps/commands.h"
 #include "apps/common_flags.h"
+#include "apps/map_png.h"
 #include "apps/run_config.h"
 #include "datasets/carmen_io.h"
 #include "datasets/g2o_io.h"
 #include "datasets/trajectory_io.h"
 #include "frontends/laser/laser_slam.h"
+#include "frontends/occupancy_grid.h"
 
 DEFINE_string(datasets, "",
               "run: datasets directory the log path is relative to (default "
@@ -41,37 +43,33 @@ namespace fs = std::filesystem;
 
 // A one-line progress bar on stderr, redrawn when the percentage changes.
 class ProgressBar {
-public:
-  explicit ProgressBar(const char *label) : label_(label) {}
+ public:
+  explicit ProgressBar(const char* label) : label_(label) {}
   void Update(double fraction) {
     const int percent = static_cast<int>(fraction * 100.0);
-    if (percent == last_)
-      return;
+    if (percent == last_) return;
     last_ = percent;
     const int filled = percent / 4;
     std::fprintf(stderr, "\r%-12s [%s%s] %3d%%", label_,
                  std::string(filled, '#').c_str(),
                  std::string(25 - filled, '.').c_str(), percent);
-    if (percent >= 100)
-      std::fprintf(stderr, "\n");
+    if (percent >= 100) std::fprintf(stderr, "\n");
     std::fflush(stderr);
   }
   void Done() { Update(1.0); }
 
-private:
-  const char *label_;
+ private:
+  const char* label_;
   int last_ = -1;
 };
 
-std::string ResolveDataPath(const std::string &path) {
-  if (path.empty() || fs::path(path).is_absolute())
-    return path;
+std::string ResolveDataPath(const std::string& path) {
+  if (path.empty() || fs::path(path).is_absolute()) return path;
   std::vector<std::string> dirs;
   if (!FLAGS_datasets.empty()) {
     dirs.push_back(FLAGS_datasets);
   } else {
-    if (const char *env = std::getenv("SLAM_DATASETS"))
-      dirs.push_back(env);
+    if (const char* env = std::getenv("SLAM_DATASETS")) dirs.push_back(env);
     if (!FLAGS_config.empty()) {
       dirs.push_back((fs::absolute(FLAGS_config).parent_path().parent_path() /
                       ".." / "shared" / "datasets")
@@ -79,10 +77,9 @@ std::string ResolveDataPath(const std::string &path) {
     }
     dirs.push_back("../shared/datasets");
   }
-  for (const std::string &dir : dirs) {
+  for (const std::string& dir : dirs) {
     const fs::path candidate = fs::path(dir) / path;
-    if (fs::exists(candidate))
-      return candidate.string();
+    if (fs::exists(candidate)) return candidate.string();
   }
   return (fs::path(dirs.front()) / path).string();
 }
@@ -92,9 +89,48 @@ double Since(std::chrono::steady_clock::time_point start) {
       .count();
 }
 
-} // namespace
+// The occupancy grid from the keyframe scans at their optimized poses:
+// map.pgm + map.yaml (map_server) and map.png with the trajectory.
+bool WriteMap(const RunConfig& config, const LaserSlam& slam,
+              const CarmenLog& log, std::string* summary, std::string* error) {
+  OccupancyGrid grid(config.map);
+  const auto& records = slam.scan_records();
+  int last_keyframe = -1;
+  for (size_t i = 0; i < records.size(); ++i) {
+    if (records[i].keyframe == last_keyframe) continue;
+    last_keyframe = records[i].keyframe;
+    const LaserScan& scan = log.scans[i];
+    grid.InsertScan(slam.KeyframePose(last_keyframe) * scan.laser_offset, scan);
+  }
+  const MapImage image = grid.ToImage();
+  const fs::path dir(config.output_dir);
+  std::vector<Eigen::Vector2d> path;
+  for (const StampedPose& p : slam.ScanTrajectory()) {
+    path.push_back(p.pose.t.head<2>());
+  }
+  if (!WriteMapPgmYaml((dir / "map.pgm").string(), (dir / "map.yaml").string(),
+                       image, config.map, error) ||
+      !WriteMapPng((dir / "map.png").string(), image, path, error)) {
+    return false;
+  }
+  size_t occupied = 0, known = 0;
+  for (uint8_t v : image.pixels) {
+    occupied += v == kPixelOccupied;
+    known += v != kPixelUnknown;
+  }
+  char text[256];
+  std::snprintf(text, sizeof(text),
+                "map %d x %d cells at %.3f m: %zu occupied of %zu observed "
+                "(%.2f%%), wrote map.pgm, map.yaml, map.png",
+                image.width, image.height, image.resolution, occupied, known,
+                known > 0 ? 100.0 * occupied / known : 0.0);
+  *summary = text;
+  return true;
+}
 
-int RunRunCommand(const std::vector<std::string> &args) {
+}  // namespace
+
+int RunRunCommand(const std::vector<std::string>& args) {
   if (!args.empty()) {
     std::cerr << "run: unexpected argument '" << args[0] << "'\n";
     return 2;
@@ -105,8 +141,7 @@ int RunRunCommand(const std::vector<std::string> &args) {
     std::cerr << error << "\n";
     return 1;
   }
-  if (!FLAGS_output_dir.empty())
-    config.output_dir = FLAGS_output_dir;
+  if (!FLAGS_output_dir.empty()) config.output_dir = FLAGS_output_dir;
   if (FLAGS_dump_config) {
     std::cout << RunConfigToYaml(config);
     return 0;
@@ -127,7 +162,7 @@ int RunRunCommand(const std::vector<std::string> &args) {
     }
     bar.Done();
   }
-  for (const std::string &w : log.warnings)
+  for (const std::string& w : log.warnings)
     std::cerr << "warning: " << w << "\n";
   if (log.scans.empty()) {
     std::cerr << log_path << ": no laser scans of the selected lasers\n";
@@ -165,7 +200,19 @@ int RunRunCommand(const std::vector<std::string> &args) {
     return 1;
   }
 
-  const LaserSlamStats &s = slam.stats();
+  std::string map_summary;
+  if (config.write_map) {
+    const auto map_start = std::chrono::steady_clock::now();
+    if (!WriteMap(config, slam, log, &map_summary, &error)) {
+      std::cerr << error << "\n";
+      return 1;
+    }
+    char seconds[32];
+    std::snprintf(seconds, sizeof(seconds), " (%.2f s)", Since(map_start));
+    map_summary += seconds;
+  }
+
+  const LaserSlamStats& s = slam.stats();
   std::printf(
       "run: %d scans, %d keyframes; tracking: %d correlative, %d odometry "
       "only; loop closures: %d proposed, %d accepted, %d rejected; %d "
@@ -180,7 +227,8 @@ int RunRunCommand(const std::vector<std::string> &args) {
       s.loop_seconds, s.optimization_seconds);
   std::printf("run: wrote %s, %s\n", trajectory_path.c_str(),
               graph_path.c_str());
+  if (!map_summary.empty()) std::printf("run: %s\n", map_summary.c_str());
   return 0;
 }
 
-} // namespace slam
+}  // namespace slam

@@ -32,23 +32,23 @@ Field K(const char *key, RobustKernelSpec *v) {
 }
 
 Section IcpSection(IcpOptions *o) {
-  return {"icp",
-          {D("max_correspondence_distance", &o->max_correspondence_distance),
-           I("max_iterations", &o->max_iterations),
-           D("huber_width", &o->huber_width),
-           D("inlier_distance", &o->inlier_distance),
-           D("sigma_min", &o->sigma_min),
-           D("covariance_scale", &o->covariance_scale)},
-          {}};
+  return {
+      "icp",
+      {D("max_correspondence_distance", &o->max_correspondence_distance),
+       I("max_iterations", &o->max_iterations),
+       D("huber_width", &o->huber_width),
+       D("inlier_distance", &o->inlier_distance), D("sigma_min", &o->sigma_min),
+       D("covariance_scale", &o->covariance_scale)},
+      {}};
 }
 
 Section CorrelativeSection(CorrelativeOptions *o) {
-  return {"correlative",
-          {D("resolution", &o->resolution),
-           I("coarse_factor", &o->coarse_factor), D("sigma", &o->sigma),
-           D("window_xy", &o->window_xy), D("window_theta", &o->window_theta),
-           D("step_theta", &o->step_theta)},
-          {}};
+  return {
+      "correlative",
+      {D("resolution", &o->resolution), I("coarse_factor", &o->coarse_factor),
+       D("sigma", &o->sigma), D("window_xy", &o->window_xy),
+       D("window_theta", &o->window_theta), D("step_theta", &o->step_theta)},
+      {}};
 }
 
 Section Schema(RunConfig *c) {
@@ -102,36 +102,40 @@ Section Schema(RunConfig *c) {
          I("max_iterations", &s.optimizer.max_iterations)},
         {}},
        {"map",
-        {B("enabled", &c->write_map), D("resolution", &c->map_resolution)},
+        {B("enabled", &c->write_map), D("resolution", &c->map.resolution),
+         D("l_occ", &c->map.l_occ), D("l_free", &c->map.l_free),
+         D("l_min", &c->map.l_min), D("l_max", &c->map.l_max),
+         D("max_usable_range", &c->map.max_usable_range),
+         B("clear_max_range", &c->map.clear_max_range)},
         {}}}};
 }
 
 bool ReadField(const YAML::Node &node, const Field &f, const std::string &where,
                std::string *error) {
   switch (f.kind) {
-  case Field::kDouble:
-    return ReadOptional(node, f.key, where, static_cast<double *>(f.value),
-                        error);
-  case Field::kInt:
-    return ReadOptional(node, f.key, where, static_cast<int *>(f.value), error);
-  case Field::kBool:
-    return ReadOptional(node, f.key, where, static_cast<bool *>(f.value),
-                        error);
-  case Field::kString:
-    return ReadOptional(node, f.key, where, static_cast<std::string *>(f.value),
-                        error);
-  case Field::kKernel: {
-    auto *spec = static_cast<RobustKernelSpec *>(f.value);
-    std::string text = spec->ToString();
-    if (!ReadOptional(node, f.key, where, &text, error))
-      return false;
-    std::string parse_error;
-    if (!ParseRobustKernel(text, spec, &parse_error)) {
-      *error = where + ": " + f.key + ": " + parse_error;
-      return false;
+    case Field::kDouble:
+      return ReadOptional(node, f.key, where, static_cast<double *>(f.value),
+                          error);
+    case Field::kInt:
+      return ReadOptional(node, f.key, where, static_cast<int *>(f.value),
+                          error);
+    case Field::kBool:
+      return ReadOptional(node, f.key, where, static_cast<bool *>(f.value),
+                          error);
+    case Field::kString:
+      return ReadOptional(node, f.key, where,
+                          static_cast<std::string *>(f.value), error);
+    case Field::kKernel: {
+      auto *spec = static_cast<RobustKernelSpec *>(f.value);
+      std::string text = spec->ToString();
+      if (!ReadOptional(node, f.key, where, &text, error)) return false;
+      std::string parse_error;
+      if (!ParseRobustKernel(text, spec, &parse_error)) {
+        *error = where + ": " + f.key + ": " + parse_error;
+        return false;
+      }
+      return true;
     }
-    return true;
-  }
   }
   return true;
 }
@@ -163,13 +167,11 @@ bool LoadSection(const YAML::Node &node, const Section &section,
     }
   }
   for (const Field &f : section.fields) {
-    if (!ReadField(node, f, where, error))
-      return false;
+    if (!ReadField(node, f, where, error)) return false;
   }
   for (const Section &c : section.children) {
     const YAML::Node child = node[c.name];
-    if (child && !LoadSection(child, c, where, error))
-      return false;
+    if (child && !LoadSection(child, c, where, error)) return false;
   }
   return true;
 }
@@ -180,44 +182,38 @@ void PrintSection(const Section &section, int indent, std::ostream *out) {
   for (const Field &f : section.fields) {
     *out << pad << "  " << f.key << ": ";
     switch (f.kind) {
-    case Field::kDouble:
-      *out << *static_cast<double *>(f.value);
-      break;
-    case Field::kInt:
-      *out << *static_cast<int *>(f.value);
-      break;
-    case Field::kBool:
-      *out << (*static_cast<bool *>(f.value) ? "true" : "false");
-      break;
-    case Field::kString:
-      *out << "\"" << *static_cast<std::string *>(f.value) << "\"";
-      break;
-    case Field::kKernel:
-      *out << static_cast<RobustKernelSpec *>(f.value)->ToString();
-      break;
+      case Field::kDouble:
+        *out << *static_cast<double *>(f.value);
+        break;
+      case Field::kInt:
+        *out << *static_cast<int *>(f.value);
+        break;
+      case Field::kBool:
+        *out << (*static_cast<bool *>(f.value) ? "true" : "false");
+        break;
+      case Field::kString:
+        *out << "\"" << *static_cast<std::string *>(f.value) << "\"";
+        break;
+      case Field::kKernel:
+        *out << static_cast<RobustKernelSpec *>(f.value)->ToString();
+        break;
     }
     *out << "\n";
   }
-  for (const Section &c : section.children)
-    PrintSection(c, indent + 2, out);
+  for (const Section &c : section.children) PrintSection(c, indent + 2, out);
 }
 
-} // namespace
+}  // namespace
 
 bool LoadRunConfig(const std::string &path, RunConfig *config,
                    std::string *error) {
   YAML::Node root;
-  if (!LoadYamlFile(path, &root, error))
-    return false;
-  if (!root || root.IsNull())
-    return true;
-  if (!CheckTopLevelSections(root, path, error))
-    return false;
+  if (!LoadYamlFile(path, &root, error)) return false;
+  if (!root || root.IsNull()) return true;
+  if (!CheckTopLevelSections(root, path, error)) return false;
   const YAML::Node node = root["run"];
-  if (!node)
-    return true;
-  if (!LoadSection(node, Schema(config), path, error))
-    return false;
+  if (!node) return true;
+  if (!LoadSection(node, Schema(config), path, error)) return false;
   if (!ValidateRunConfig(*config, error)) {
     *error = path + ": run." + *error;
     return false;
@@ -246,8 +242,9 @@ bool ValidateRunConfig(const RunConfig &config, std::string *error) {
     if (!(o->max_correspondence_distance > 0) || o->max_iterations < 1 ||
         !(o->huber_width > 0) || !(o->inlier_distance > 0) ||
         !(o->sigma_min > 0) || !(o->covariance_scale > 0)) {
-      return fail("tracking.icp: distances, widths and scales must be > 0, "
-                  "max_iterations >= 1");
+      return fail(
+          "tracking.icp: distances, widths and scales must be > 0, "
+          "max_iterations >= 1");
     }
   }
   for (const CorrelativeOptions *o :
@@ -255,8 +252,9 @@ bool ValidateRunConfig(const RunConfig &config, std::string *error) {
     if (!(o->resolution > 0) || o->coarse_factor < 1 || !(o->sigma > 0) ||
         !(o->window_xy >= 0) || !(o->window_theta >= 0) ||
         !(o->step_theta > 0)) {
-      return fail("correlative: resolution, sigma, step_theta must be > 0, "
-                  "windows >= 0, coarse_factor >= 1");
+      return fail(
+          "correlative: resolution, sigma, step_theta must be > 0, "
+          "windows >= 0, coarse_factor >= 1");
     }
     if ((2.0 * o->window_xy / o->resolution + 1) *
             (2.0 * o->window_theta / o->step_theta + 1) >
@@ -278,8 +276,10 @@ bool ValidateRunConfig(const RunConfig &config, std::string *error) {
       s.incremental_iterations < 1 || s.optimizer.max_iterations < 1) {
     return fail("backend: intervals must be >= 0, iterations >= 1");
   }
-  if (!(config.map_resolution > 0))
-    return fail("map.resolution must be > 0");
+  std::string map_error;
+  if (!CheckOccupancyGridConfig(config.map, &map_error)) {
+    return fail("map: " + map_error);
+  }
   if (!config.lasers.front_laser && !config.lasers.rear_laser &&
       !config.lasers.robot_laser) {
     return fail("lasers: select at least one laser");
@@ -295,4 +295,4 @@ std::string RunConfigToYaml(const RunConfig &config) {
   return out.str();
 }
 
-} // namespace slam
+}  // namespace slam

@@ -20,7 +20,8 @@
 //                    correlative: {...}}
 //     backend: {optimize_every, loop_optimize_interval,
 //               incremental_iterations, max_iterations}
-//     map: {enabled, resolution, ...}
+//     map: {enabled, resolution, l_occ, l_free, l_min, l_max,
+//           max_usable_range, clear_max_range}   (frontends/occupancy_grid.h)
 //   icp: {max_correspondence_distance, max_iterations, huber_width,
 //         inlier_distance, sigma_min, covariance_scale}
 //   correlative: {resolution, coarse_factor, sigma, window_xy,
@@ -32,6 +33,7 @@
 
 #include "datasets/carmen_io.h"
 #include "frontends/laser/laser_slam.h"
+#include "frontends/occupancy_grid.h"
 
 namespace slam {
 
@@ -42,7 +44,7 @@ struct RunConfig {
   CarmenReadOptions lasers;
   LaserSlamConfig slam;
   bool write_map = true;
-  double map_resolution = 0.05;
+  OccupancyGridConfig map;
 };
 
 bool LoadRunConfig(const std::string &path, RunConfig *config,
@@ -50,6 +52,6 @@ bool LoadRunConfig(const std::string &path, RunConfig *config,
 bool ValidateRunConfig(const RunConfig &config, std::string *error);
 std::string RunConfigToYaml(const RunConfig &config);
 
-} // namespace slam
+}  // namespace slam
 
-#endif // SLAM_APPS_RUN_CONFIG_H_
+#endif  // SLAM_APPS_RUN_CONFIG_H_

@@ -1,12 +1,12 @@
 // Scan matching (point-to-line ICP, correlative search) and the odometry
 // noise model on synthetic scans with known poses.
+#include "frontends/laser/scan_matcher.h"
+
+#include <Eigen/Eigenvalues>
 #include <cmath>
 #include <random>
 
-#include <Eigen/Eigenvalues>
-
 #include "frontends/laser/odometry_model.h"
-#include "frontends/laser/scan_matcher.h"
 #include "frontends/laser/scan_simulator.h"
 #include "gtest/gtest.h"
 
@@ -17,8 +17,7 @@ namespace {
 // sees structure in both directions.
 std::vector<Wall> Room() {
   std::vector<Wall> walls = RectangleWalls(-6, -4, 6, 4);
-  for (const Wall &w : RectangleWalls(1.0, 1.0, 1.6, 1.4))
-    walls.push_back(w);
+  for (const Wall &w : RectangleWalls(1.0, 1.0, 1.6, 1.4)) walls.push_back(w);
   for (const Wall &w : RectangleWalls(-3.0, -2.5, -2.4, -1.5))
     walls.push_back(w);
   walls.push_back({Eigen::Vector2d(-1, 4), Eigen::Vector2d(-1, 2)});
@@ -37,8 +36,7 @@ Points2 Scan(const std::vector<Wall> &walls, const Pose2 &pose, double sigma,
   std::vector<float> ranges = SimulateScan(walls, pose, g, sigma, rng);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   for (float &r : ranges) {
-    if (u(*rng) < outlier_fraction)
-      r = static_cast<float>(0.3 + 5.0 * u(*rng));
+    if (u(*rng) < outlier_fraction) r = static_cast<float>(0.3 + 5.0 * u(*rng));
   }
   return RangesToPoints(ranges, g.angle_min, g.angle_increment, 0.05,
                         g.max_range);
@@ -53,7 +51,7 @@ struct Fixture {
   Pose2 b{1.1, 0.1, 0.45};
   MatchTarget target;
   Points2 source;
-  Pose2 truth; // b in a's frame.
+  Pose2 truth;  // b in a's frame.
 };
 
 Fixture MakeFixture(double outliers, double fov, unsigned seed) {
@@ -77,7 +75,7 @@ TEST(ScanMatcherTest, IcpRecoversKnownTransformWithNoiseAndOutliers) {
   EXPECT_LT((r.pose.t - f.truth.t).norm(), 0.01);
   EXPECT_LT(AngleError(r.pose.theta, f.truth.theta), 0.003);
   EXPECT_GT(r.fitness, 0.6);
-  EXPECT_LT(r.fitness, 0.95); // The outliers are not inliers.
+  EXPECT_LT(r.fitness, 0.95);  // The outliers are not inliers.
   // The guess itself was far worse.
   EXPECT_GT((guess.t - f.truth.t).norm(), 0.09);
 }
@@ -106,7 +104,7 @@ TEST(ScanMatcherTest, CorrelativeBranchAndBoundEqualsExhaustiveSearch) {
   c.step_theta = 0.02;
   double score = 0.0;
   const Pose2 bb = f.target.Correlative(f.source, guess, c, &score);
-  c.coarse_factor = 1; // Every lattice point evaluated at the fine level.
+  c.coarse_factor = 1;  // Every lattice point evaluated at the fine level.
   double exhaustive_score = 0.0;
   const Pose2 ex = f.target.Correlative(f.source, guess, c, &exhaustive_score);
   EXPECT_NEAR(score, exhaustive_score, 1e-9);
@@ -230,5 +228,5 @@ TEST(OdometryModelTest, GrowsWithMotionAndStaysPositiveDefinite) {
   EXPECT_NEAR(back(1, 2), -long_step(1, 2), 1e-12);
 }
 
-} // namespace
-} // namespace slam
+}  // namespace
+}  // namespace slam

@@ -22,7 +22,7 @@ bool SmallMotion(const Pose2 &a, const Pose2 &b, double max_distance,
          std::abs(NormalizeAngle(a.theta - b.theta)) <= max_angle;
 }
 
-} // namespace
+}  // namespace
 
 LaserSlam::LaserSlam(const LaserSlamConfig &config) : config_(config) {}
 
@@ -40,12 +40,11 @@ void LaserSlam::AddBetween(int i, int j, const Pose2 &z,
   if (!MakeBetweenSE2(Pose2Key(i), Pose2Key(j), z,
                       0.5 * (information + information.transpose()), &factor,
                       &error)) {
-    return; // Not positive definite: the measurement carries no weight.
+    return;  // Not positive definite: the measurement carries no weight.
   }
   factor.loss = std::move(loss);
   const FactorId id = graph_.AddFactor(std::move(factor));
-  if (loop && id >= 0)
-    loop_factors_.push_back(id);
+  if (loop && id >= 0) loop_factors_.push_back(id);
 }
 
 void LaserSlam::AddScan(const LaserScan &scan) {
@@ -97,8 +96,7 @@ void LaserSlam::AddScan(const LaserScan &scan) {
       }
     }
   }
-  if (!matched)
-    ++stats_.tracking_failures;
+  if (!matched) ++stats_.tracking_failures;
   if (std::getenv("LASER_DEBUG") && stats_.scans < 400)
     std::fprintf(
         stderr,
@@ -121,8 +119,7 @@ void LaserSlam::AddScan(const LaserScan &scan) {
     scans_.push_back({scan.stamp, k, Pose2()});
     if (config_.loop_closure) {
       const auto loop_start = std::chrono::steady_clock::now();
-      if (DetectLoopClosures(k))
-        pending_loop_ = true;
+      if (DetectLoopClosures(k)) pending_loop_ = true;
       stats_.loop_seconds += Seconds(loop_start);
     }
     const bool loop_due = pending_loop_ && k - last_optimized_keyframe_ >=
@@ -146,8 +143,7 @@ void LaserSlam::AddKeyframe(const LaserScan &scan, const Points2 &points,
   Node *node = graph_.AddNode(Pose2Key(k), Pose2Value(tracked_));
   node->stamp = scan.stamp;
   node->has_stamp = true;
-  if (k == 0)
-    graph_.SetFixed(Pose2Key(0), true);
+  if (k == 0) graph_.SetFixed(Pose2Key(0), true);
   keyframes_.push_back({scan.stamp, points, scan.odom, path_});
   ++stats_.keyframes;
   if (k > 0) {
@@ -177,8 +173,7 @@ void LaserSlam::RebuildLocalSubmap() {
 
 bool LaserSlam::DetectLoopClosures(int k) {
   const Keyframe &current = keyframes_[k];
-  if (current.points.size() < 20)
-    return false;
+  if (current.points.size() < 20) return false;
   const Pose2 pose_k = KeyframePose(k);
   struct Candidate {
     double distance;
@@ -187,14 +182,12 @@ bool LaserSlam::DetectLoopClosures(int k) {
   std::vector<Candidate> candidates;
   for (int j = 0; j < k - config_.submap_keyframes; ++j) {
     const double separation = current.path - keyframes_[j].path;
-    if (separation < config_.loop_min_separation)
-      continue;
-    const double radius = std::min(config_.loop_max_radius,
-                                   config_.loop_search_radius +
-                                       config_.loop_radius_growth * separation);
+    if (separation < config_.loop_min_separation) continue;
+    const double radius = std::min(
+        config_.loop_max_radius,
+        config_.loop_search_radius + config_.loop_radius_growth * separation);
     const double d = (KeyframePose(j).t - pose_k.t).norm();
-    if (d <= radius)
-      candidates.push_back({d, j});
+    if (d <= radius) candidates.push_back({d, j});
   }
   std::sort(candidates.begin(), candidates.end(),
             [](const Candidate &a, const Candidate &b) {
@@ -202,15 +195,13 @@ bool LaserSlam::DetectLoopClosures(int k) {
             });
   std::vector<int> chosen;
   for (const Candidate &c : candidates) {
-    if (static_cast<int>(chosen.size()) >= config_.loop_max_candidates)
-      break;
+    if (static_cast<int>(chosen.size()) >= config_.loop_max_candidates) break;
     bool near_chosen = false;
     for (int j : chosen) {
       near_chosen |=
           std::abs(j - c.index) <= 2 * config_.loop_submap_half_width;
     }
-    if (!near_chosen)
-      chosen.push_back(c.index);
+    if (!near_chosen) chosen.push_back(c.index);
   }
   bool accepted = false;
   for (int j : chosen) {
@@ -245,15 +236,13 @@ bool LaserSlam::DetectLoopClosures(int k) {
 }
 
 void LaserSlam::OptimizeGraph(int max_iterations) {
-  if (graph_.NumFactors() == 0)
-    return;
+  if (graph_.NumFactors() == 0) return;
   const auto start = std::chrono::steady_clock::now();
   const int last = static_cast<int>(keyframes_.size()) - 1;
   const Pose2 relative = KeyframePose(last).Inverse() * tracked_;
   OptimizerOptions options = config_.optimizer;
   options.verbose = false;
-  if (max_iterations > 0)
-    options.max_iterations = max_iterations;
+  if (max_iterations > 0) options.max_iterations = max_iterations;
   Optimize(&graph_, options, nullptr);
   ++stats_.optimizations;
   tracked_ = KeyframePose(last) * relative;
@@ -262,26 +251,21 @@ void LaserSlam::OptimizeGraph(int max_iterations) {
 }
 
 void LaserSlam::Finish() {
-  if (keyframes_.empty())
-    return;
+  if (keyframes_.empty()) return;
   OptimizeGraph(0);
   // Closures the robust kernel has switched off.
   std::vector<FactorId> rejected;
   for (FactorId id : loop_factors_) {
     const Factor *factor = graph_.FindFactor(id);
     double chi2 = 0.0;
-    if (factor == nullptr || !graph_.FactorChi2(*factor, &chi2))
-      continue;
+    if (factor == nullptr || !graph_.FactorChi2(*factor, &chi2)) continue;
     double rho[3] = {chi2, 1.0, 0.0};
-    if (factor->loss)
-      factor->loss->Evaluate(chi2, rho);
-    if (rho[1] < config_.loop_reject_weight)
-      rejected.push_back(id);
+    if (factor->loss) factor->loss->Evaluate(chi2, rho);
+    if (rho[1] < config_.loop_reject_weight) rejected.push_back(id);
   }
   stats_.closures_rejected = static_cast<int>(rejected.size());
   if (!rejected.empty()) {
-    for (FactorId id : rejected)
-      graph_.RemoveFactor(id);
+    for (FactorId id : rejected) graph_.RemoveFactor(id);
     loop_factors_.erase(
         std::remove_if(loop_factors_.begin(), loop_factors_.end(),
                        [&](FactorId id) { return !graph_.FindFactor(id); }),
@@ -299,4 +283,4 @@ Trajectory LaserSlam::ScanTrajectory() const {
   return out;
 }
 
-} // namespace slam
+}  // namespace slam

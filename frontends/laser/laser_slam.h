@@ -58,51 +58,51 @@ namespace slam {
 
 struct LaserSlamConfig {
   // Scan preprocessing.
-  double min_range = 0.1;   // m.
-  double max_range = 40.0;  // m; longer readings are not used for matching.
-  double voxel_size = 0.05; // m; source thinning.
+  double min_range = 0.1;    // m.
+  double max_range = 40.0;   // m; longer readings are not used for matching.
+  double voxel_size = 0.05;  // m; source thinning.
   // Keyframes.
-  double keyframe_distance = 0.3; // m.
-  double keyframe_rotation = 0.2; // rad.
+  double keyframe_distance = 0.3;  // m.
+  double keyframe_rotation = 0.2;  // rad.
   // Local tracking.
   int submap_keyframes = 15;
-  double submap_voxel = 0.03;  // m; thinning of the submap points.
-  double normal_radius = 0.15; // m.
+  double submap_voxel = 0.03;   // m; thinning of the submap points.
+  double normal_radius = 0.15;  // m.
   IcpOptions icp;
   double min_tracking_fitness = 0.15;
   // Correlative search before ICP on every scan (else only when ICP fails).
   bool always_correlative = false;
-  double max_tracking_jump = 0.5; // m (and the same number in rad).
+  double max_tracking_jump = 0.5;  // m (and the same number in rad).
   CorrelativeOptions local_correlative{0.05, 4, 0.05, 0.4, 0.3, 0.01};
   OdometryNoise odometry;
   // Loop closure.
   bool loop_closure = true;
-  double loop_min_separation = 10.0; // m of path.
-  double loop_search_radius = 2.0;   // m.
-  double loop_radius_growth = 0.03;  // m per m of path.
-  double loop_max_radius = 8.0;      // m.
+  double loop_min_separation = 10.0;  // m of path.
+  double loop_search_radius = 2.0;    // m.
+  double loop_radius_growth = 0.03;   // m per m of path.
+  double loop_max_radius = 8.0;       // m.
   int loop_max_candidates = 2;
-  int loop_submap_half_width = 6; // keyframes.
+  int loop_submap_half_width = 6;  // keyframes.
   CorrelativeOptions loop_correlative{0.05, 4, 0.05, 1.5, 0.35, 0.01};
   double loop_min_score = 0.55;
   double loop_min_fitness = 0.6;
   RobustKernelSpec loop_kernel{"cauchy", 1.0};
   double loop_reject_weight = 0.1;
   // Backend.
-  int optimize_every = 200;        // keyframes.
-  int loop_optimize_interval = 10; // keyframes.
+  int optimize_every = 200;         // keyframes.
+  int loop_optimize_interval = 10;  // keyframes.
   int incremental_iterations = 10;
-  OptimizerOptions optimizer; // Final optimization (verbose is ignored).
+  OptimizerOptions optimizer;  // Final optimization (verbose is ignored).
 };
 
 struct LaserSlamStats {
   int scans = 0;
   int keyframes = 0;
-  int tracking_correlative = 0; // Scans that needed the correlative search.
-  int tracking_failures = 0;    // Scans left at the odometry prediction.
-  int closures_proposed = 0;    // Candidates verified by matching.
+  int tracking_correlative = 0;  // Scans that needed the correlative search.
+  int tracking_failures = 0;     // Scans left at the odometry prediction.
+  int closures_proposed = 0;     // Candidates verified by matching.
   int closures_accepted = 0;
-  int closures_rejected = 0; // Accepted, then down-weighted (Finish).
+  int closures_rejected = 0;  // Accepted, then down-weighted (Finish).
   int optimizations = 0;
   double matching_seconds = 0.0;
   double loop_seconds = 0.0;
@@ -110,7 +110,7 @@ struct LaserSlamStats {
 };
 
 class LaserSlam {
-public:
+ public:
   explicit LaserSlam(const LaserSlamConfig &config);
 
   // Scans must come in time order.
@@ -134,12 +134,12 @@ public:
   };
   const std::vector<ScanRecord> &scan_records() const { return scans_; }
 
-private:
+ private:
   struct Keyframe {
     TimeNs stamp = 0;
-    Points2 points; // Robot frame.
+    Points2 points;  // Robot frame.
     Pose2 odom;
-    double path = 0.0; // Path length from the start (m).
+    double path = 0.0;  // Path length from the start (m).
   };
 
   void AddKeyframe(const LaserScan &scan, const Points2 &points,
@@ -157,13 +157,13 @@ private:
   std::vector<ScanRecord> scans_;
   std::vector<FactorId> loop_factors_;
   MatchTarget local_submap_;
-  Pose2 tracked_;   // Robot pose of the last scan (world).
-  Pose2 last_odom_; // Odometry pose of the last scan.
+  Pose2 tracked_;    // Robot pose of the last scan (world).
+  Pose2 last_odom_;  // Odometry pose of the last scan.
   double path_ = 0.0;
   int last_optimized_keyframe_ = 0;
   bool pending_loop_ = false;
 };
 
-} // namespace slam
+}  // namespace slam
 
-#endif // SLAM_FRONTENDS_LASER_LASER_SLAM_H_
+#endif  // SLAM_FRONTENDS_LASER_LASER_SLAM_H_

@@ -8,10 +8,10 @@ OdometryDelta OdometryMotion(const Pose2 &a, const Pose2 &b,
                              const OdometryNoise &noise) {
   OdometryDelta out;
   out.delta = a.Inverse() * b;
-  const Eigen::Vector2d d = out.delta.t; // In A's frame.
+  const Eigen::Vector2d d = out.delta.t;  // In A's frame.
   double trans = d.norm();
   double rot1 = trans > 1e-9 ? std::atan2(d.y(), d.x()) : 0.0;
-  if (std::abs(rot1) > M_PI / 2) { // Driving backwards.
+  if (std::abs(rot1) > M_PI / 2) {  // Driving backwards.
     rot1 = NormalizeAngle(rot1 + M_PI);
     trans = -trans;
   }
@@ -22,8 +22,8 @@ OdometryDelta OdometryMotion(const Pose2 &a, const Pose2 &b,
       noise.alpha1 * rot2 * rot2 + noise.alpha2 * trans * trans);
   const double c = std::cos(rot1), s = std::sin(rot1);
   Eigen::Matrix3d j;
-  j << -trans * s, c, 0.0, //
-      trans * c, s, 0.0,   //
+  j << -trans * s, c, 0.0,  //
+      trans * c, s, 0.0,    //
       1.0, 0.0, 1.0;
   out.covariance = j * var.asDiagonal() * j.transpose();
   out.covariance.diagonal() +=
@@ -33,4 +33,4 @@ OdometryDelta OdometryMotion(const Pose2 &a, const Pose2 &b,
   return out;
 }
 
-} // namespace slam
+}  // namespace slam

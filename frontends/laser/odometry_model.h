@@ -30,22 +30,22 @@
 namespace slam {
 
 struct OdometryNoise {
-  double alpha1 = 0.05;           // rad^2/rad^2: rotation from rotation.
-  double alpha2 = 0.01;           // rad^2/m^2: rotation from translation.
-  double alpha3 = 0.05;           // m^2/m^2: translation from translation.
-  double alpha4 = 0.01;           // m^2/rad^2: translation from rotation.
-  double min_sigma_xy = 0.005;    // m.
-  double min_sigma_theta = 0.002; // rad.
+  double alpha1 = 0.05;            // rad^2/rad^2: rotation from rotation.
+  double alpha2 = 0.01;            // rad^2/m^2: rotation from translation.
+  double alpha3 = 0.05;            // m^2/m^2: translation from translation.
+  double alpha4 = 0.01;            // m^2/rad^2: translation from rotation.
+  double min_sigma_xy = 0.005;     // m.
+  double min_sigma_theta = 0.002;  // rad.
 };
 
 struct OdometryDelta {
-  Pose2 delta; // B in the frame of A.
+  Pose2 delta;  // B in the frame of A.
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Identity();
 };
 
 OdometryDelta OdometryMotion(const Pose2 &a, const Pose2 &b,
                              const OdometryNoise &noise);
 
-} // namespace slam
+}  // namespace slam
 
-#endif // SLAM_FRONTENDS_LASER_ODOMETRY_MODEL_H_
+#endif  // SLAM_FRONTENDS_LASER_ODOMETRY_MODEL_H_

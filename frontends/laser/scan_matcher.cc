@@ -1,11 +1,10 @@
 #include "frontends/laser/scan_matcher.h"
 
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <unordered_map>
-
-#include <Eigen/Cholesky>
-#include <Eigen/Eigenvalues>
 
 namespace slam {
 namespace {
@@ -19,14 +18,13 @@ Eigen::Vector2d Perp(const Eigen::Vector2d &p) {
   return Eigen::Vector2d(-p.y(), p.x());
 }
 
-} // namespace
+}  // namespace
 
 Points2 TransformPoints(const Pose2 &pose, const Points2 &points) {
   const Eigen::Matrix2d r = RotationMatrix2D(pose.theta);
   Points2 out;
   out.reserve(points.size());
-  for (const Eigen::Vector2d &p : points)
-    out.push_back(r * p + pose.t);
+  for (const Eigen::Vector2d &p : points) out.push_back(r * p + pose.t);
   return out;
 }
 
@@ -37,8 +35,7 @@ Points2 RangesToPoints(const std::vector<float> &ranges, double angle_min,
   points.reserve(ranges.size());
   for (size_t i = 0; i < ranges.size(); ++i) {
     const double r = ranges[i];
-    if (!std::isfinite(r) || r < min_range || r >= max_range)
-      continue;
+    if (!std::isfinite(r) || r < min_range || r >= max_range) continue;
     const double a = angle_min + static_cast<double>(i) * angle_increment;
     points.emplace_back(r * std::cos(a), r * std::sin(a));
   }
@@ -62,8 +59,7 @@ Points2 VoxelFilter(const Points2 &points, double cell) {
       ++counts[it->second];
     }
   }
-  for (size_t i = 0; i < sums.size(); ++i)
-    sums[i] /= counts[i];
+  for (size_t i = 0; i < sums.size(); ++i) sums[i] /= counts[i];
   return sums;
 }
 
@@ -77,8 +73,7 @@ void MatchTarget::Build(Points2 points, double cell_size,
   cell_start_.clear();
   cell_points_.clear();
   grid_width_ = grid_height_ = 0;
-  if (points_.empty())
-    return;
+  if (points_.empty()) return;
   Eigen::Vector2d lo = points_[0], hi = points_[0];
   for (const Eigen::Vector2d &p : points_) {
     lo = lo.cwiseMin(p);
@@ -100,8 +95,7 @@ void MatchTarget::Build(Points2 points, double cell_size,
     cell_of[i] = iy * grid_width_ + ix;
     ++cell_start_[cell_of[i] + 1];
   }
-  for (int c = 0; c < num_cells; ++c)
-    cell_start_[c + 1] += cell_start_[c];
+  for (int c = 0; c < num_cells; ++c) cell_start_[c + 1] += cell_start_[c];
   cell_points_.resize(points_.size());
   std::vector<int> fill(cell_start_.begin(), cell_start_.end() - 1);
   for (size_t i = 0; i < points_.size(); ++i) {
@@ -124,8 +118,7 @@ void MatchTarget::Build(Points2 points, double cell_size,
         const int c = y * grid_width_ + x;
         for (int k = cell_start_[c]; k < cell_start_[c + 1]; ++k) {
           const Eigen::Vector2d &q = points_[cell_points_[k]];
-          if ((q - p).squaredNorm() > r2)
-            continue;
+          if ((q - p).squaredNorm() > r2) continue;
           sum += q;
           outer += q * q.transpose();
           ++n;
@@ -153,8 +146,7 @@ void MatchTarget::Build(Points2 points, double cell_size,
           }
         }
       }
-      if (nearest < 0)
-        continue;
+      if (nearest < 0) continue;
       const Eigen::Vector2d dir = (points_[nearest] - p).normalized();
       normals_[i] = Eigen::Vector2d(-dir.y(), dir.x());
       has_normal_[i] = 1;
@@ -166,9 +158,8 @@ void MatchTarget::Build(Points2 points, double cell_size,
     const double half_diff = 0.5 * (a - c);
     const double root = std::sqrt(half_diff * half_diff + b * b);
     const double l_max = 0.5 * (a + c) + root, l_min = 0.5 * (a + c) - root;
-    if (!(l_max > 0) || l_min > 0.1 * l_max)
-      continue;                                          // No dominant line.
-    const double phi = 0.5 * std::atan2(2.0 * b, a - c); // Line direction.
+    if (!(l_max > 0) || l_min > 0.1 * l_max) continue;    // No dominant line.
+    const double phi = 0.5 * std::atan2(2.0 * b, a - c);  // Line direction.
     normals_[i] = Eigen::Vector2d(-std::sin(phi), std::cos(phi));
     has_normal_[i] = 1;
   }
@@ -176,8 +167,7 @@ void MatchTarget::Build(Points2 points, double cell_size,
 
 int MatchTarget::Nearest(const Eigen::Vector2d &query,
                          double max_distance) const {
-  if (points_.empty())
-    return -1;
+  if (points_.empty()) return -1;
   const int ring = static_cast<int>(std::ceil(max_distance / cell_size_));
   const double fx = (query.x() - origin_.x()) / cell_size_;
   const double fy = (query.y() - origin_.y()) / cell_size_;
@@ -211,8 +201,7 @@ MatchResult MatchTarget::Icp(const Points2 &source, const Pose2 &initial,
   MatchResult result;
   result.pose = initial;
   result.num_points = static_cast<int>(source.size());
-  if (points_.empty() || source.size() < 3)
-    return result;
+  if (points_.empty() || source.size() < 3) return result;
   Pose2 x = initial;
   Eigen::Matrix3d h;
   double weighted_r2 = 0.0;
@@ -229,10 +218,8 @@ MatchResult MatchTarget::Icp(const Points2 &source, const Pose2 &initial,
     for (const Eigen::Vector2d &p : source) {
       const Eigen::Vector2d q = r * p + x.t;
       const int k = Nearest(q, options.max_correspondence_distance);
-      if (k < 0)
-        continue;
-      if (!has_normal_[k])
-        continue;
+      if (k < 0) continue;
+      if (!has_normal_[k]) continue;
       const Eigen::Vector2d &normal = normals_[k];
       const double res = normal.dot(q - points_[k]);
       // Right perturbation: q(delta) = R Exp(dtheta) p + t + R dt.
@@ -260,13 +247,11 @@ MatchResult MatchTarget::Icp(const Points2 &source, const Pose2 &initial,
   int iteration = 0;
   for (; iteration < options.max_iterations; ++iteration) {
     linearize(&g, false);
-    if (n < 3)
-      break;
+    if (n < 3) break;
     const double damping = 1e-9 * (h.trace() + 1e-12);
     const Eigen::Vector3d delta =
         -(h + damping * Eigen::Matrix3d::Identity()).ldlt().solve(g);
-    if (!delta.allFinite())
-      break;
+    if (!delta.allFinite()) break;
     x.t += RotationMatrix2D(x.theta) * delta.head<2>();
     x.theta = NormalizeAngle(x.theta + delta[2]);
     if (delta.head<2>().norm() < options.translation_tolerance &&
@@ -282,11 +267,9 @@ MatchResult MatchTarget::Icp(const Points2 &source, const Pose2 &initial,
       result.num_points > 0
           ? static_cast<double>(result.num_inliers) / result.num_points
           : 0.0;
-  if (n < 10)
-    return result;
+  if (n < 10) return result;
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(h);
-  if (!(eig.eigenvalues()[0] > 1e-9 * eig.eigenvalues()[2]))
-    return result;
+  if (!(eig.eigenvalues()[0] > 1e-9 * eig.eigenvalues()[2])) return result;
   const double sigma2 = std::max(options.sigma_min * options.sigma_min,
                                  weighted_r2 / std::max(1, n - 3));
   result.covariance = options.covariance_scale * sigma2 * h.inverse();
@@ -361,8 +344,7 @@ Pose2 MatchTarget::Correlative(const Points2 &source, const Pose2 &initial,
                                const CorrelativeOptions &options,
                                double *score) const {
   *score = 0.0;
-  if (points_.empty() || source.empty())
-    return initial;
+  if (points_.empty() || source.empty()) return initial;
   BuildLikelihood(options);
   const LikelihoodGrids &l = likelihood_;
   const double res = l.resolution;
@@ -391,8 +373,7 @@ Pose2 MatchTarget::Correlative(const Points2 &source, const Pose2 &initial,
     const int *py = &cy[a * n];
     for (size_t i = 0; i < n; ++i) {
       const int x = px[i] + dx, y = py[i] + dy;
-      if (x < 0 || y < 0 || x >= l.width || y >= l.height)
-        continue;
+      if (x < 0 || y < 0 || x >= l.width || y >= l.height) continue;
       s += grid[static_cast<size_t>(y) * l.width + x];
     }
     return s;
@@ -415,8 +396,7 @@ Pose2 MatchTarget::Correlative(const Points2 &source, const Pose2 &initial,
   double best = -1.0;
   int best_a = ntheta, best_dx = 0, best_dy = 0;
   for (const Candidate &c : candidates) {
-    if (c.upper <= best)
-      break;
+    if (c.upper <= best) break;
     for (int fy = 0; fy < f && c.dy + fy <= nxy; ++fy) {
       for (int fx = 0; fx < f && c.dx + fx <= nxy; ++fx) {
         const double s = sum(l.fine, c.angle, c.dx + fx, c.dy + fy);
@@ -444,4 +424,4 @@ MatchResult MatchTarget::Match(const Points2 &source, const Pose2 &initial,
   return result;
 }
 
-} // namespace slam
+}  // namespace slam

@@ -21,10 +21,9 @@
 #ifndef SLAM_FRONTENDS_LASER_SCAN_MATCHER_H_
 #define SLAM_FRONTENDS_LASER_SCAN_MATCHER_H_
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "core/lie.h"
 
@@ -62,31 +61,31 @@ struct IcpOptions {
 };
 
 struct CorrelativeOptions {
-  double resolution = 0.05;  // Fine grid cell (m).
-  int coarse_factor = 4;     // Coarse translation step = factor * cell.
-  double sigma = 0.05;       // Likelihood exp(-d^2 / 2 sigma^2) (m).
-  double window_xy = 0.3;    // Search +-window around the guess (m).
-  double window_theta = 0.2; // ... (rad).
-  double step_theta = 0.005; // Angular step (rad).
+  double resolution = 0.05;   // Fine grid cell (m).
+  int coarse_factor = 4;      // Coarse translation step = factor * cell.
+  double sigma = 0.05;        // Likelihood exp(-d^2 / 2 sigma^2) (m).
+  double window_xy = 0.3;     // Search +-window around the guess (m).
+  double window_theta = 0.2;  // ... (rad).
+  double step_theta = 0.005;  // Angular step (rad).
 };
 
 struct MatchResult {
   Pose2 pose;
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Identity();
-  int num_points = 0; // Source points used.
+  int num_points = 0;  // Source points used.
   int num_correspondences = 0;
   int num_inliers = 0;
-  double fitness = 0.0; // num_inliers / num_points.
-  double rmse = 0.0;    // Of the inlier distances (m).
-  double score = 0.0;   // Correlative score (mean likelihood), if run.
+  double fitness = 0.0;  // num_inliers / num_points.
+  double rmse = 0.0;     // Of the inlier distances (m).
+  double score = 0.0;    // Correlative score (mean likelihood), if run.
   int iterations = 0;
-  bool success = false; // Enough correspondences, H well conditioned.
+  bool success = false;  // Enough correspondences, H well conditioned.
 };
 
 // Points in frame T with normals, a grid hash for nearest-neighbour lookup
 // and (built on demand) the likelihood grids of the correlative search.
 class MatchTarget {
-public:
+ public:
   MatchTarget() = default;
   // `points` should already be thinned (VoxelFilter). Normals come from the
   // neighbours within `normal_radius` (principal axes); with fewer than 3
@@ -115,14 +114,14 @@ public:
                     const CorrelativeOptions &correlative,
                     const IcpOptions &icp) const;
 
-private:
+ private:
   struct LikelihoodGrids {
     double resolution = 0.0, sigma = 0.0;
     int coarse_factor = 0;
     Eigen::Vector2d origin = Eigen::Vector2d::Zero();
     int width = 0, height = 0;
-    std::vector<float> fine;   // Likelihood per cell.
-    std::vector<float> coarse; // Max of fine over [i, i+f) x [j, j+f).
+    std::vector<float> fine;    // Likelihood per cell.
+    std::vector<float> coarse;  // Max of fine over [i, i+f) x [j, j+f).
   };
   void BuildLikelihood(const CorrelativeOptions &options) const;
 
@@ -139,6 +138,6 @@ private:
   mutable LikelihoodGrids likelihood_;
 };
 
-} // namespace slam
+}  // namespace slam
 
-#endif // SLAM_FRONTENDS_LASER_SCAN_MATCHER_H_
+#endif  // SLAM_FRONTENDS_LASER_SCAN_MATCHER_H_

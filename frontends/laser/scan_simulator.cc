@@ -25,13 +25,11 @@ std::vector<float> SimulateScan(const std::vector<Wall> &walls,
       // Solve o + s dir = a + u (b - a), s > 0, u in [0, 1].
       const Eigen::Vector2d e = w.b - w.a;
       const double den = dir.x() * (-e.y()) - dir.y() * (-e.x());
-      if (std::abs(den) < 1e-12)
-        continue;
+      if (std::abs(den) < 1e-12) continue;
       const Eigen::Vector2d rhs = w.a - laser_pose.t;
       const double s = (rhs.x() * (-e.y()) - rhs.y() * (-e.x())) / den;
       const double u = (dir.x() * rhs.y() - dir.y() * rhs.x()) / den;
-      if (s > 1e-9 && u >= 0.0 && u <= 1.0)
-        best = std::min(best, s);
+      if (s > 1e-9 && u >= 0.0 && u <= 1.0) best = std::min(best, s);
     }
     double r = best;
     if (!(r < geometry.max_range)) {
@@ -44,4 +42,4 @@ std::vector<float> SimulateScan(const std::vector<Wall> &walls,
   return ranges;
 }
 
-} // namespace slam
+}  // namespace slam

@@ -3,10 +3,9 @@
 #ifndef SLAM_FRONTENDS_LASER_SCAN_SIMULATOR_H_
 #define SLAM_FRONTENDS_LASER_SCAN_SIMULATOR_H_
 
+#include <Eigen/Core>
 #include <random>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "core/lie.h"
 
@@ -34,6 +33,6 @@ std::vector<float> SimulateScan(const std::vector<Wall> &walls,
                                 const ScanGeometry &geometry, double sigma,
                                 std::mt19937 *rng);
 
-} // namespace slam
+}  // namespace slam
 
-#endif // SLAM_FRONTENDS_LASER_SCAN_SIMULATOR_H_
+#endif  // SLAM_FRONTENDS_LASER_SCAN_SIMULATOR_H_
