@@ -12,47 +12,49 @@ namespace {
 // loading, the unknown-key check and printing share one description.
 struct Field {
   enum Kind { kDouble, kInt, kBool, kString, kKernel };
-  const char *key;
+  const char* key;
   Kind kind;
-  void *value;
+  void* value;
 };
 
 struct Section {
-  const char *name;
+  const char* name;
   std::vector<Field> fields;
   std::vector<Section> children;
 };
 
-Field D(const char *key, double *v) { return {key, Field::kDouble, v}; }
-Field I(const char *key, int *v) { return {key, Field::kInt, v}; }
-Field B(const char *key, bool *v) { return {key, Field::kBool, v}; }
-Field S(const char *key, std::string *v) { return {key, Field::kString, v}; }
-Field K(const char *key, RobustKernelSpec *v) {
+Field D(const char* key, double* v) { return {key, Field::kDouble, v}; }
+Field I(const char* key, int* v) { return {key, Field::kInt, v}; }
+Field B(const char* key, bool* v) { return {key, Field::kBool, v}; }
+Field S(const char* key, std::string* v) { return {key, Field::kString, v}; }
+Field K(const char* key, RobustKernelSpec* v) {
   return {key, Field::kKernel, v};
 }
 
-Section IcpSection(IcpOptions *o) {
+Section IcpSection(IcpOptions* o) {
   return {
       "icp",
       {D("max_correspondence_distance", &o->max_correspondence_distance),
        I("max_iterations", &o->max_iterations),
+       D("max_step_translation", &o->max_step_translation),
+       D("max_step_rotation", &o->max_step_rotation),
        D("huber_width", &o->huber_width),
        D("inlier_distance", &o->inlier_distance), D("sigma_min", &o->sigma_min),
        D("covariance_scale", &o->covariance_scale)},
       {}};
 }
 
-Section CorrelativeSection(CorrelativeOptions *o) {
+Section CorrelativeSection(CorrelativeOptions* o) {
   return {
       "correlative",
-      {D("resolution", &o->resolution), I("coarse_factor", &o->coarse_factor),
+      {D("resolution", &o->resolution), I("levels", &o->levels),
        D("sigma", &o->sigma), D("window_xy", &o->window_xy),
        D("window_theta", &o->window_theta), D("step_theta", &o->step_theta)},
       {}};
 }
 
-Section Schema(RunConfig *c) {
-  LaserSlamConfig &s = c->slam;
+Section Schema(RunConfig* c) {
+  LaserSlamConfig& s = c->slam;
   return {
       "run",
       {S("log", &c->log), S("relations", &c->relations),
@@ -91,8 +93,15 @@ Section Schema(RunConfig *c) {
          D("max_radius", &s.loop_max_radius),
          I("max_candidates", &s.loop_max_candidates),
          I("submap_half_width", &s.loop_submap_half_width),
-         D("min_score", &s.loop_min_score),
-         D("min_fitness", &s.loop_min_fitness), K("kernel", &s.loop_kernel),
+         I("query_keyframes", &s.loop_query_keyframes),
+         D("query_voxel", &s.loop_query_voxel),
+         D("min_score", &s.loop_min_score), I("every", &s.loop_every),
+         I("min_inliers", &s.loop_min_inliers),
+         D("min_inlier_ratio", &s.loop_min_inlier_ratio),
+         I("consistency_keyframes", &s.loop_consistency_keyframes),
+         D("consistency_distance", &s.loop_consistency_distance),
+         D("consistency_angle", &s.loop_consistency_angle),
+         K("kernel", &s.loop_kernel),
          D("reject_weight", &s.loop_reject_weight)},
         {CorrelativeSection(&s.loop_correlative)}},
        {"backend",
@@ -110,23 +119,23 @@ Section Schema(RunConfig *c) {
         {}}}};
 }
 
-bool ReadField(const YAML::Node &node, const Field &f, const std::string &where,
-               std::string *error) {
+bool ReadField(const YAML::Node& node, const Field& f, const std::string& where,
+               std::string* error) {
   switch (f.kind) {
     case Field::kDouble:
-      return ReadOptional(node, f.key, where, static_cast<double *>(f.value),
+      return ReadOptional(node, f.key, where, static_cast<double*>(f.value),
                           error);
     case Field::kInt:
-      return ReadOptional(node, f.key, where, static_cast<int *>(f.value),
+      return ReadOptional(node, f.key, where, static_cast<int*>(f.value),
                           error);
     case Field::kBool:
-      return ReadOptional(node, f.key, where, static_cast<bool *>(f.value),
+      return ReadOptional(node, f.key, where, static_cast<bool*>(f.value),
                           error);
     case Field::kString:
       return ReadOptional(node, f.key, where,
-                          static_cast<std::string *>(f.value), error);
+                          static_cast<std::string*>(f.value), error);
     case Field::kKernel: {
-      auto *spec = static_cast<RobustKernelSpec *>(f.value);
+      auto* spec = static_cast<RobustKernelSpec*>(f.value);
       std::string text = spec->ToString();
       if (!ReadOptional(node, f.key, where, &text, error)) return false;
       std::string parse_error;
@@ -140,22 +149,22 @@ bool ReadField(const YAML::Node &node, const Field &f, const std::string &where,
   return true;
 }
 
-bool LoadSection(const YAML::Node &node, const Section &section,
-                 const std::string &where, std::string *error) {
+bool LoadSection(const YAML::Node& node, const Section& section,
+                 const std::string& where, std::string* error) {
   if (!node.IsMap()) {
     *error = where + ":" + std::to_string(node.Mark().line + 1) + ": '" +
              section.name + "' must be a mapping of settings";
     return false;
   }
-  for (const auto &entry : node) {
+  for (const auto& entry : node) {
     const std::string key = entry.first.as<std::string>();
     bool known = false;
     std::string list;
-    for (const Field &f : section.fields) {
+    for (const Field& f : section.fields) {
       known |= key == f.key;
       list += (list.empty() ? "" : ", ") + std::string(f.key);
     }
-    for (const Section &c : section.children) {
+    for (const Section& c : section.children) {
       known |= key == c.name;
       list += (list.empty() ? "" : ", ") + std::string(c.name);
     }
@@ -166,47 +175,47 @@ bool LoadSection(const YAML::Node &node, const Section &section,
       return false;
     }
   }
-  for (const Field &f : section.fields) {
+  for (const Field& f : section.fields) {
     if (!ReadField(node, f, where, error)) return false;
   }
-  for (const Section &c : section.children) {
+  for (const Section& c : section.children) {
     const YAML::Node child = node[c.name];
     if (child && !LoadSection(child, c, where, error)) return false;
   }
   return true;
 }
 
-void PrintSection(const Section &section, int indent, std::ostream *out) {
+void PrintSection(const Section& section, int indent, std::ostream* out) {
   const std::string pad(indent, ' ');
   *out << pad << section.name << ":\n";
-  for (const Field &f : section.fields) {
+  for (const Field& f : section.fields) {
     *out << pad << "  " << f.key << ": ";
     switch (f.kind) {
       case Field::kDouble:
-        *out << *static_cast<double *>(f.value);
+        *out << *static_cast<double*>(f.value);
         break;
       case Field::kInt:
-        *out << *static_cast<int *>(f.value);
+        *out << *static_cast<int*>(f.value);
         break;
       case Field::kBool:
-        *out << (*static_cast<bool *>(f.value) ? "true" : "false");
+        *out << (*static_cast<bool*>(f.value) ? "true" : "false");
         break;
       case Field::kString:
-        *out << "\"" << *static_cast<std::string *>(f.value) << "\"";
+        *out << "\"" << *static_cast<std::string*>(f.value) << "\"";
         break;
       case Field::kKernel:
-        *out << static_cast<RobustKernelSpec *>(f.value)->ToString();
+        *out << static_cast<RobustKernelSpec*>(f.value)->ToString();
         break;
     }
     *out << "\n";
   }
-  for (const Section &c : section.children) PrintSection(c, indent + 2, out);
+  for (const Section& c : section.children) PrintSection(c, indent + 2, out);
 }
 
 }  // namespace
 
-bool LoadRunConfig(const std::string &path, RunConfig *config,
-                   std::string *error) {
+bool LoadRunConfig(const std::string& path, RunConfig* config,
+                   std::string* error) {
   YAML::Node root;
   if (!LoadYamlFile(path, &root, error)) return false;
   if (!root || root.IsNull()) return true;
@@ -221,9 +230,9 @@ bool LoadRunConfig(const std::string &path, RunConfig *config,
   return true;
 }
 
-bool ValidateRunConfig(const RunConfig &config, std::string *error) {
-  const LaserSlamConfig &s = config.slam;
-  auto fail = [&](const std::string &message) {
+bool ValidateRunConfig(const RunConfig& config, std::string* error) {
+  const LaserSlamConfig& s = config.slam;
+  auto fail = [&](const std::string& message) {
     *error = message;
     return false;
   };
@@ -238,7 +247,7 @@ bool ValidateRunConfig(const RunConfig &config, std::string *error) {
   }
   if (s.submap_keyframes < 1)
     return fail("tracking.submap_keyframes must be >= 1");
-  for (const IcpOptions *o : {&s.icp}) {
+  for (const IcpOptions* o : {&s.icp}) {
     if (!(o->max_correspondence_distance > 0) || o->max_iterations < 1 ||
         !(o->huber_width > 0) || !(o->inlier_distance > 0) ||
         !(o->sigma_min > 0) || !(o->covariance_scale > 0)) {
@@ -247,14 +256,14 @@ bool ValidateRunConfig(const RunConfig &config, std::string *error) {
           "max_iterations >= 1");
     }
   }
-  for (const CorrelativeOptions *o :
+  for (const CorrelativeOptions* o :
        {&s.local_correlative, &s.loop_correlative}) {
-    if (!(o->resolution > 0) || o->coarse_factor < 1 || !(o->sigma > 0) ||
-        !(o->window_xy >= 0) || !(o->window_theta >= 0) ||
+    if (!(o->resolution > 0) || o->levels < 0 || o->levels > 12 ||
+        !(o->sigma > 0) || !(o->window_xy >= 0) || !(o->window_theta >= 0) ||
         !(o->step_theta > 0)) {
       return fail(
           "correlative: resolution, sigma, step_theta must be > 0, "
-          "windows >= 0, coarse_factor >= 1");
+          "windows >= 0, levels in [0, 12]");
     }
     if ((2.0 * o->window_xy / o->resolution + 1) *
             (2.0 * o->window_theta / o->step_theta + 1) >
@@ -262,7 +271,7 @@ bool ValidateRunConfig(const RunConfig &config, std::string *error) {
       return fail("correlative: search window too large for its resolution");
     }
   }
-  const OdometryNoise &n = s.odometry;
+  const OdometryNoise& n = s.odometry;
   if (!(n.alpha1 >= 0) || !(n.alpha2 >= 0) || !(n.alpha3 >= 0) ||
       !(n.alpha4 >= 0) || !(n.min_sigma_xy > 0) || !(n.min_sigma_theta > 0)) {
     return fail("odometry: alphas must be >= 0, minimum sigmas > 0");
@@ -287,7 +296,7 @@ bool ValidateRunConfig(const RunConfig &config, std::string *error) {
   return true;
 }
 
-std::string RunConfigToYaml(const RunConfig &config) {
+std::string RunConfigToYaml(const RunConfig& config) {
   RunConfig copy = config;
   std::ostringstream out;
   out.precision(10);

@@ -47,10 +47,10 @@ struct RunConfig {
   OccupancyGridConfig map;
 };
 
-bool LoadRunConfig(const std::string &path, RunConfig *config,
-                   std::string *error);
-bool ValidateRunConfig(const RunConfig &config, std::string *error);
-std::string RunConfigToYaml(const RunConfig &config);
+bool LoadRunConfig(const std::string& path, RunConfig* config,
+                   std::string* error);
+bool ValidateRunConfig(const RunConfig& config, std::string* error);
+std::string RunConfigToYaml(const RunConfig& config);
 
 }  // namespace slam
 

@@ -17,16 +17,16 @@ namespace {
 // sees structure in both directions.
 std::vector<Wall> Room() {
   std::vector<Wall> walls = RectangleWalls(-6, -4, 6, 4);
-  for (const Wall &w : RectangleWalls(1.0, 1.0, 1.6, 1.4)) walls.push_back(w);
-  for (const Wall &w : RectangleWalls(-3.0, -2.5, -2.4, -1.5))
+  for (const Wall& w : RectangleWalls(1.0, 1.0, 1.6, 1.4)) walls.push_back(w);
+  for (const Wall& w : RectangleWalls(-3.0, -2.5, -2.4, -1.5))
     walls.push_back(w);
   walls.push_back({Eigen::Vector2d(-1, 4), Eigen::Vector2d(-1, 2)});
   walls.push_back({Eigen::Vector2d(3, -4), Eigen::Vector2d(4, -2.5)});
   return walls;
 }
 
-Points2 Scan(const std::vector<Wall> &walls, const Pose2 &pose, double sigma,
-             std::mt19937 *rng, double outlier_fraction = 0.0,
+Points2 Scan(const std::vector<Wall>& walls, const Pose2& pose, double sigma,
+             std::mt19937* rng, double outlier_fraction = 0.0,
              double fov = M_PI) {
   ScanGeometry g;
   g.num_beams = 181;
@@ -35,7 +35,7 @@ Points2 Scan(const std::vector<Wall> &walls, const Pose2 &pose, double sigma,
   g.max_range = 20.0;
   std::vector<float> ranges = SimulateScan(walls, pose, g, sigma, rng);
   std::uniform_real_distribution<double> u(0.0, 1.0);
-  for (float &r : ranges) {
+  for (float& r : ranges) {
     if (u(*rng) < outlier_fraction) r = static_cast<float>(0.3 + 5.0 * u(*rng));
   }
   return RangesToPoints(ranges, g.angle_min, g.angle_increment, 0.05,
@@ -104,7 +104,7 @@ TEST(ScanMatcherTest, CorrelativeBranchAndBoundEqualsExhaustiveSearch) {
   c.step_theta = 0.02;
   double score = 0.0;
   const Pose2 bb = f.target.Correlative(f.source, guess, c, &score);
-  c.coarse_factor = 1;  // Every lattice point evaluated at the fine level.
+  c.levels = 0;  // Every lattice point evaluated at the fine level.
   double exhaustive_score = 0.0;
   const Pose2 ex = f.target.Correlative(f.source, guess, c, &exhaustive_score);
   EXPECT_NEAR(score, exhaustive_score, 1e-9);
@@ -155,7 +155,7 @@ TEST(OdometryModelTest, CovarianceMatchesSampledMotionModel) {
   noise.min_sigma_xy = 0.0;
   noise.min_sigma_theta = 0.0;
   const Pose2 a(1.0, 2.0, 0.3);
-  for (const Pose2 &step :
+  for (const Pose2& step :
        {Pose2(0.5, 0.1, 0.2), Pose2(-0.4, 0.05, -0.1), Pose2(0.3, -0.2, 0.6)}) {
     const Pose2 b = a * step;
     const OdometryDelta d = OdometryMotion(a, b, noise);

@@ -16,7 +16,7 @@ double Seconds(std::chrono::steady_clock::time_point start) {
       .count();
 }
 
-bool SmallMotion(const Pose2 &a, const Pose2 &b, double max_distance,
+bool SmallMotion(const Pose2& a, const Pose2& b, double max_distance,
                  double max_angle) {
   return (a.t - b.t).norm() <= max_distance &&
          std::abs(NormalizeAngle(a.theta - b.theta)) <= max_angle;
@@ -24,14 +24,21 @@ bool SmallMotion(const Pose2 &a, const Pose2 &b, double max_distance,
 
 }  // namespace
 
-LaserSlam::LaserSlam(const LaserSlamConfig &config) : config_(config) {}
+bool LoopMatchPasses(const MatchResult& match, const LaserSlamConfig& config) {
+  return match.success && match.score >= config.loop_min_score &&
+         match.num_inliers >= config.loop_min_inliers &&
+         match.num_inliers >=
+             config.loop_min_inlier_ratio * match.num_correspondences;
+}
+
+LaserSlam::LaserSlam(const LaserSlamConfig& config) : config_(config) {}
 
 Pose2 LaserSlam::KeyframePose(size_t k) const {
   return NodePose2(*graph_.FindNode(Pose2Key(static_cast<int64_t>(k))));
 }
 
-void LaserSlam::AddBetween(int i, int j, const Pose2 &z,
-                           const Eigen::Matrix3d &cov,
+void LaserSlam::AddBetween(int i, int j, const Pose2& z,
+                           const Eigen::Matrix3d& cov,
                            std::shared_ptr<ceres::LossFunction> loss,
                            bool loop) {
   Factor factor;
@@ -47,7 +54,7 @@ void LaserSlam::AddBetween(int i, int j, const Pose2 &z,
   if (loop && id >= 0) loop_factors_.push_back(id);
 }
 
-void LaserSlam::AddScan(const LaserScan &scan) {
+void LaserSlam::AddScan(const LaserScan& scan) {
   const auto start = std::chrono::steady_clock::now();
   ++stats_.scans;
   Points2 points = RangesToPoints(
@@ -73,7 +80,7 @@ void LaserSlam::AddScan(const LaserScan &scan) {
   bool matched = false;
   if (points.size() >= 10 && !local_submap_.empty()) {
     const double jump = config_.max_tracking_jump;
-    auto good = [&](const MatchResult &m, double scale) {
+    auto good = [&](const MatchResult& m, double scale) {
       return m.success && m.fitness >= config_.min_tracking_fitness &&
              SmallMotion(m.pose, predicted, scale * jump, scale * jump);
     };
@@ -137,10 +144,10 @@ void LaserSlam::AddScan(const LaserScan &scan) {
   }
 }
 
-void LaserSlam::AddKeyframe(const LaserScan &scan, const Points2 &points,
-                            const MatchResult *match) {
+void LaserSlam::AddKeyframe(const LaserScan& scan, const Points2& points,
+                            const MatchResult* match) {
   const int k = static_cast<int>(keyframes_.size());
-  Node *node = graph_.AddNode(Pose2Key(k), Pose2Value(tracked_));
+  Node* node = graph_.AddNode(Pose2Key(k), Pose2Value(tracked_));
   node->stamp = scan.stamp;
   node->has_stamp = true;
   if (k == 0) graph_.SetFixed(Pose2Key(0), true);
@@ -172,40 +179,62 @@ void LaserSlam::RebuildLocalSubmap() {
 }
 
 bool LaserSlam::DetectLoopClosures(int k) {
-  const Keyframe &current = keyframes_[k];
+  const Keyframe& current = keyframes_[k];
   if (current.points.size() < 20) return false;
+  if (config_.loop_every > 1 && k % config_.loop_every != 0) return false;
   const Pose2 pose_k = KeyframePose(k);
   struct Candidate {
     double distance;
     int index;
+    double radius;
   };
   std::vector<Candidate> candidates;
   for (int j = 0; j < k - config_.submap_keyframes; ++j) {
     const double separation = current.path - keyframes_[j].path;
     if (separation < config_.loop_min_separation) continue;
+    // Dead-reckoning drift grows with the path since j, or since the last
+    // accepted closure (which re-anchored the recent trajectory), whichever
+    // is shorter.
+    const double drift_path =
+        std::min(separation, current.path - last_closure_path_ +
+                                 config_.loop_min_separation);
     const double radius = std::min(
         config_.loop_max_radius,
-        config_.loop_search_radius + config_.loop_radius_growth * separation);
+        config_.loop_search_radius + config_.loop_radius_growth * drift_path);
     const double d = (KeyframePose(j).t - pose_k.t).norm();
-    if (d <= radius) candidates.push_back({d, j});
+    if (d <= radius) candidates.push_back({d, j, radius});
   }
   std::sort(candidates.begin(), candidates.end(),
-            [](const Candidate &a, const Candidate &b) {
+            [](const Candidate& a, const Candidate& b) {
               return a.distance < b.distance;
             });
-  std::vector<int> chosen;
-  for (const Candidate &c : candidates) {
+  std::vector<Candidate> chosen;
+  for (const Candidate& c : candidates) {
     if (static_cast<int>(chosen.size()) >= config_.loop_max_candidates) break;
     bool near_chosen = false;
-    for (int j : chosen) {
+    for (const Candidate& o : chosen) {
       near_chosen |=
-          std::abs(j - c.index) <= 2 * config_.loop_submap_half_width;
+          std::abs(o.index - c.index) <= 2 * config_.loop_submap_half_width;
     }
-    if (!near_chosen) chosen.push_back(c.index);
+    if (!near_chosen) chosen.push_back(c);
   }
+  if (chosen.empty()) return false;
+  // The query: the last loop_query_keyframes keyframes in k's frame, so that
+  // both sides of the match are local maps of several metres.
+  Points2 query;
+  const Pose2 k_inv = pose_k.Inverse();
+  for (int m = std::max(0, k - config_.loop_query_keyframes + 1); m <= k; ++m) {
+    const Points2 p =
+        TransformPoints(k_inv * KeyframePose(m), keyframes_[m].points);
+    query.insert(query.end(), p.begin(), p.end());
+  }
+  query = VoxelFilter(query, config_.loop_query_voxel);
   bool accepted = false;
-  for (int j : chosen) {
-    ++stats_.closures_proposed;
+  for (const Candidate& candidate : chosen) {
+    const int j = candidate.index;
+    // The search window covers the uncertainty the candidate was found with.
+    CorrelativeOptions search = config_.loop_correlative;
+    search.window_xy = std::max(search.window_xy, candidate.radius);
     const Pose2 pose_j = KeyframePose(j);
     const Pose2 j_inv = pose_j.Inverse();
     Points2 submap;
@@ -221,17 +250,68 @@ bool LaserSlam::DetectLoopClosures(int k) {
     target.Build(VoxelFilter(submap, config_.submap_voxel),
                  config_.icp.max_correspondence_distance,
                  config_.normal_radius);
-    const MatchResult match = target.Match(
-        current.points, j_inv * pose_k, config_.loop_correlative, config_.icp);
-    if (!match.success || match.score < config_.loop_min_score ||
-        match.fitness < config_.loop_min_fitness) {
+    const MatchResult match =
+        target.Match(query, j_inv * pose_k, search, config_.icp);
+    ++stats_.closures_proposed;
+    if (std::getenv("LOOP_DEBUG"))
+      std::fprintf(stderr,
+                   "loop k %d (t %.1f) j %d (t %.1f) d %.2f r %.2f score %.3f "
+                   "fit %.3f succ %d corr %.2f %.2f %.3f\n",
+                   k, NsToSeconds(current.stamp), j,
+                   NsToSeconds(keyframes_[j].stamp), candidate.distance,
+                   candidate.radius, match.score, match.fitness, match.success,
+                   (match.pose.t - (j_inv * pose_k).t).x(),
+                   (match.pose.t - (j_inv * pose_k).t).y(),
+                   match.pose.theta - (j_inv * pose_k).theta);
+    if (!LoopMatchPasses(match, config_)) {
       continue;
     }
-    AddBetween(j, k, match.pose, match.covariance,
-               MakeLoss(config_.loop_kernel), true);
-    ++stats_.closures_accepted;
-    accepted = true;
+    // Geometric consistency: the correction this closure implies (the
+    // transform taking k's estimate to where the match puts it) must agree
+    // with one of another recent keyframe's passing matches.
+    LoopHypothesis h{k,
+                     j,
+                     match.pose,
+                     match.covariance,
+                     pose_j * match.pose * pose_k.Inverse(),
+                     false};
+    bool consistent = false;
+    for (LoopHypothesis& other : hypotheses_) {
+      if (k - other.k > config_.loop_consistency_keyframes || other.k == k) {
+        continue;
+      }
+      const Pose2 diff = other.correction.Inverse() * h.correction;
+      if (diff.t.norm() > config_.loop_consistency_distance ||
+          std::abs(diff.theta) > config_.loop_consistency_angle) {
+        continue;
+      }
+      consistent = true;
+      if (std::getenv("LOOP_DEBUG"))
+        std::fprintf(stderr, "accept %d-%d with %d-%d diff %.3f %.4f\n", j, k,
+                     other.j, other.k, diff.t.norm(), diff.theta);
+      if (!other.added) {
+        AddBetween(other.j, other.k, other.z, other.covariance,
+                   MakeLoss(config_.loop_kernel), true);
+        other.added = true;
+        ++stats_.closures_accepted;
+      }
+    }
+    if (consistent) {
+      AddBetween(j, k, match.pose, match.covariance,
+                 MakeLoss(config_.loop_kernel), true);
+      h.added = true;
+      ++stats_.closures_accepted;
+      accepted = true;
+      last_closure_path_ = current.path;
+    }
+    hypotheses_.push_back(h);
   }
+  hypotheses_.erase(std::remove_if(hypotheses_.begin(), hypotheses_.end(),
+                                   [&](const LoopHypothesis& o) {
+                                     return k - o.k >
+                                            config_.loop_consistency_keyframes;
+                                   }),
+                    hypotheses_.end());
   return accepted;
 }
 
@@ -256,11 +336,15 @@ void LaserSlam::Finish() {
   // Closures the robust kernel has switched off.
   std::vector<FactorId> rejected;
   for (FactorId id : loop_factors_) {
-    const Factor *factor = graph_.FindFactor(id);
+    const Factor* factor = graph_.FindFactor(id);
     double chi2 = 0.0;
     if (factor == nullptr || !graph_.FactorChi2(*factor, &chi2)) continue;
     double rho[3] = {chi2, 1.0, 0.0};
     if (factor->loss) factor->loss->Evaluate(chi2, rho);
+    if (std::getenv("LOOP_DEBUG"))
+      std::fprintf(stderr, "final loop %ld-%ld chi2 %.1f w %.3f\n",
+                   (long)factor->keys[0].id, (long)factor->keys[1].id, chi2,
+                   rho[1]);
     if (rho[1] < config_.loop_reject_weight) rejected.push_back(id);
   }
   stats_.closures_rejected = static_cast<int>(rejected.size());
@@ -277,7 +361,7 @@ void LaserSlam::Finish() {
 Trajectory LaserSlam::ScanTrajectory() const {
   Trajectory out;
   out.reserve(scans_.size());
-  for (const ScanRecord &s : scans_) {
+  for (const ScanRecord& s : scans_) {
     out.push_back({s.stamp, LiftPose2(KeyframePose(s.keyframe) * s.relative)});
   }
   return out;

@@ -73,7 +73,7 @@ struct LaserSlamConfig {
   // Correlative search before ICP on every scan (else only when ICP fails).
   bool always_correlative = false;
   double max_tracking_jump = 0.5;  // m (and the same number in rad).
-  CorrelativeOptions local_correlative{0.05, 4, 0.05, 0.4, 0.3, 0.01};
+  CorrelativeOptions local_correlative{0.05, 3, 0.05, 0.4, 0.3, 0.01};
   OdometryNoise odometry;
   // Loop closure.
   bool loop_closure = true;
@@ -83,10 +83,17 @@ struct LaserSlamConfig {
   double loop_max_radius = 8.0;       // m.
   int loop_max_candidates = 2;
   int loop_submap_half_width = 6;  // keyframes.
-  CorrelativeOptions loop_correlative{0.05, 4, 0.05, 1.5, 0.35, 0.01};
-  double loop_min_score = 0.55;
-  double loop_min_fitness = 0.6;
-  RobustKernelSpec loop_kernel{"cauchy", 1.0};
+  int loop_query_keyframes = 10;   // Last keyframes matched as one cloud.
+  double loop_query_voxel = 0.1;   // m; thinning of that cloud.
+  CorrelativeOptions loop_correlative{0.05, 6, 0.05, 1.5, 0.35, 0.01};
+  int loop_every = 2;  // Check every n-th keyframe.
+  double loop_min_score = 0.2;
+  int loop_min_inliers = 100;
+  double loop_min_inlier_ratio = 0.7;  // Of the correspondences.
+  int loop_consistency_keyframes = 8;
+  double loop_consistency_distance = 0.1;  // m.
+  double loop_consistency_angle = 0.02;    // rad.
+  RobustKernelSpec loop_kernel{"cauchy", 3.0};
   double loop_reject_weight = 0.1;
   // Backend.
   int optimize_every = 200;         // keyframes.
@@ -109,30 +116,36 @@ struct LaserSlamStats {
   double optimization_seconds = 0.0;
 };
 
+// The per-match test of a loop-closure candidate (before the consistency
+// check): ICP succeeded, correlative score >= loop_min_score, at least
+// loop_min_inliers inliers, and inliers >= loop_min_inlier_ratio of the
+// correspondences.
+bool LoopMatchPasses(const MatchResult& match, const LaserSlamConfig& config);
+
 class LaserSlam {
  public:
-  explicit LaserSlam(const LaserSlamConfig &config);
+  explicit LaserSlam(const LaserSlamConfig& config);
 
   // Scans must come in time order.
-  void AddScan(const LaserScan &scan);
+  void AddScan(const LaserScan& scan);
   // Global optimization and the rejected-closure count.
   void Finish();
 
-  const Graph &graph() const { return graph_; }
-  const LaserSlamStats &stats() const { return stats_; }
+  const Graph& graph() const { return graph_; }
+  const LaserSlamStats& stats() const { return stats_; }
   // Every scan's robot pose (keyframe estimate * relative pose).
   Trajectory ScanTrajectory() const;
   // Per keyframe: robot pose and points in the robot frame (for maps).
   size_t NumKeyframes() const { return keyframes_.size(); }
   Pose2 KeyframePose(size_t k) const;
-  const Points2 &KeyframePoints(size_t k) const { return keyframes_[k].points; }
+  const Points2& KeyframePoints(size_t k) const { return keyframes_[k].points; }
   // Keyframe of each scan and the scan's pose relative to it.
   struct ScanRecord {
     TimeNs stamp = 0;
     int keyframe = 0;
     Pose2 relative;
   };
-  const std::vector<ScanRecord> &scan_records() const { return scans_; }
+  const std::vector<ScanRecord>& scan_records() const { return scans_; }
 
  private:
   struct Keyframe {
@@ -142,12 +155,12 @@ class LaserSlam {
     double path = 0.0;  // Path length from the start (m).
   };
 
-  void AddKeyframe(const LaserScan &scan, const Points2 &points,
-                   const MatchResult *match);
+  void AddKeyframe(const LaserScan& scan, const Points2& points,
+                   const MatchResult* match);
   void RebuildLocalSubmap();
   bool DetectLoopClosures(int k);
   void OptimizeGraph(int max_iterations);
-  void AddBetween(int i, int j, const Pose2 &z, const Eigen::Matrix3d &cov,
+  void AddBetween(int i, int j, const Pose2& z, const Eigen::Matrix3d& cov,
                   std::shared_ptr<ceres::LossFunction> loss, bool loop);
 
   LaserSlamConfig config_;
@@ -161,6 +174,15 @@ class LaserSlam {
   Pose2 last_odom_;  // Odometry pose of the last scan.
   double path_ = 0.0;
   int last_optimized_keyframe_ = 0;
+  double last_closure_path_ = -1e300;
+  struct LoopHypothesis {
+    int k, j;
+    Pose2 z;
+    Eigen::Matrix3d covariance;
+    Pose2 correction;
+    bool added;
+  };
+  std::vector<LoopHypothesis> hypotheses_;
   bool pending_loop_ = false;
 };
 

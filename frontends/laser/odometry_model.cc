@@ -4,8 +4,8 @@
 
 namespace slam {
 
-OdometryDelta OdometryMotion(const Pose2 &a, const Pose2 &b,
-                             const OdometryNoise &noise) {
+OdometryDelta OdometryMotion(const Pose2& a, const Pose2& b,
+                             const OdometryNoise& noise) {
   OdometryDelta out;
   out.delta = a.Inverse() * b;
   const Eigen::Vector2d d = out.delta.t;  // In A's frame.

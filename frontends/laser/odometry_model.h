@@ -43,8 +43,8 @@ struct OdometryDelta {
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Identity();
 };
 
-OdometryDelta OdometryMotion(const Pose2 &a, const Pose2 &b,
-                             const OdometryNoise &noise);
+OdometryDelta OdometryMotion(const Pose2& a, const Pose2& b,
+                             const OdometryNoise& noise);
 
 }  // namespace slam
 

@@ -4,6 +4,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <unordered_map>
 
 namespace slam {
@@ -14,21 +15,21 @@ int64_t CellKey(int ix, int iy) {
 }
 
 // d/dtheta of R(theta) p, for R = I: (-p.y, p.x).
-Eigen::Vector2d Perp(const Eigen::Vector2d &p) {
+Eigen::Vector2d Perp(const Eigen::Vector2d& p) {
   return Eigen::Vector2d(-p.y(), p.x());
 }
 
 }  // namespace
 
-Points2 TransformPoints(const Pose2 &pose, const Points2 &points) {
+Points2 TransformPoints(const Pose2& pose, const Points2& points) {
   const Eigen::Matrix2d r = RotationMatrix2D(pose.theta);
   Points2 out;
   out.reserve(points.size());
-  for (const Eigen::Vector2d &p : points) out.push_back(r * p + pose.t);
+  for (const Eigen::Vector2d& p : points) out.push_back(r * p + pose.t);
   return out;
 }
 
-Points2 RangesToPoints(const std::vector<float> &ranges, double angle_min,
+Points2 RangesToPoints(const std::vector<float>& ranges, double angle_min,
                        double angle_increment, double min_range,
                        double max_range) {
   Points2 points;
@@ -42,12 +43,12 @@ Points2 RangesToPoints(const std::vector<float> &ranges, double angle_min,
   return points;
 }
 
-Points2 VoxelFilter(const Points2 &points, double cell) {
+Points2 VoxelFilter(const Points2& points, double cell) {
   std::unordered_map<int64_t, int> index;
   index.reserve(points.size() * 2);
   Points2 sums;
   std::vector<int> counts;
-  for (const Eigen::Vector2d &p : points) {
+  for (const Eigen::Vector2d& p : points) {
     const int64_t key = CellKey(static_cast<int>(std::floor(p.x() / cell)),
                                 static_cast<int>(std::floor(p.y() / cell)));
     auto [it, inserted] = index.emplace(key, static_cast<int>(sums.size()));
@@ -75,7 +76,7 @@ void MatchTarget::Build(Points2 points, double cell_size,
   grid_width_ = grid_height_ = 0;
   if (points_.empty()) return;
   Eigen::Vector2d lo = points_[0], hi = points_[0];
-  for (const Eigen::Vector2d &p : points_) {
+  for (const Eigen::Vector2d& p : points_) {
     lo = lo.cwiseMin(p);
     hi = hi.cwiseMax(p);
   }
@@ -106,7 +107,7 @@ void MatchTarget::Build(Points2 points, double cell_size,
   const double r2 = normal_radius * normal_radius;
   const int ring = static_cast<int>(std::ceil(normal_radius / cell_size_));
   for (size_t i = 0; i < points_.size(); ++i) {
-    const Eigen::Vector2d &p = points_[i];
+    const Eigen::Vector2d& p = points_[i];
     const int cx = cell_of[i] % grid_width_, cy = cell_of[i] / grid_width_;
     Eigen::Vector2d sum = Eigen::Vector2d::Zero();
     Eigen::Matrix2d outer = Eigen::Matrix2d::Zero();
@@ -117,7 +118,7 @@ void MatchTarget::Build(Points2 points, double cell_size,
            x <= std::min(grid_width_ - 1, cx + ring); ++x) {
         const int c = y * grid_width_ + x;
         for (int k = cell_start_[c]; k < cell_start_[c + 1]; ++k) {
-          const Eigen::Vector2d &q = points_[cell_points_[k]];
+          const Eigen::Vector2d& q = points_[cell_points_[k]];
           if ((q - p).squaredNorm() > r2) continue;
           sum += q;
           outer += q * q.transpose();
@@ -165,7 +166,7 @@ void MatchTarget::Build(Points2 points, double cell_size,
   }
 }
 
-int MatchTarget::Nearest(const Eigen::Vector2d &query,
+int MatchTarget::Nearest(const Eigen::Vector2d& query,
                          double max_distance) const {
   if (points_.empty()) return -1;
   const int ring = static_cast<int>(std::ceil(max_distance / cell_size_));
@@ -196,8 +197,8 @@ int MatchTarget::Nearest(const Eigen::Vector2d &query,
   return best_index;
 }
 
-MatchResult MatchTarget::Icp(const Points2 &source, const Pose2 &initial,
-                             const IcpOptions &options) const {
+MatchResult MatchTarget::Icp(const Points2& source, const Pose2& initial,
+                             const IcpOptions& options) const {
   MatchResult result;
   result.pose = initial;
   result.num_points = static_cast<int>(source.size());
@@ -207,7 +208,7 @@ MatchResult MatchTarget::Icp(const Points2 &source, const Pose2 &initial,
   double weighted_r2 = 0.0;
   int n = 0;
   // One association + linearization at x; fills h, g and the statistics.
-  auto linearize = [&](Eigen::Vector3d *g, bool stats) {
+  auto linearize = [&](Eigen::Vector3d* g, bool stats) {
     h.setZero();
     g->setZero();
     weighted_r2 = 0.0;
@@ -215,12 +216,12 @@ MatchResult MatchTarget::Icp(const Points2 &source, const Pose2 &initial,
     double inlier_r2 = 0.0;
     int inliers = 0;
     const Eigen::Matrix2d r = RotationMatrix2D(x.theta);
-    for (const Eigen::Vector2d &p : source) {
+    for (const Eigen::Vector2d& p : source) {
       const Eigen::Vector2d q = r * p + x.t;
       const int k = Nearest(q, options.max_correspondence_distance);
       if (k < 0) continue;
       if (!has_normal_[k]) continue;
-      const Eigen::Vector2d &normal = normals_[k];
+      const Eigen::Vector2d& normal = normals_[k];
       const double res = normal.dot(q - points_[k]);
       // Right perturbation: q(delta) = R Exp(dtheta) p + t + R dt.
       const Eigen::Vector2d nr = r.transpose() * normal;
@@ -249,9 +250,16 @@ MatchResult MatchTarget::Icp(const Points2 &source, const Pose2 &initial,
     linearize(&g, false);
     if (n < 3) break;
     const double damping = 1e-9 * (h.trace() + 1e-12);
-    const Eigen::Vector3d delta =
+    Eigen::Vector3d delta =
         -(h + damping * Eigen::Matrix3d::Identity()).ldlt().solve(g);
     if (!delta.allFinite()) break;
+    // A step along a direction the points barely constrain (a corridor)
+    // can be huge; the correspondences are only valid nearby.
+    const double step = delta.head<2>().norm();
+    const double scale = std::min(
+        {1.0, options.max_step_translation / std::max(step, 1e-12),
+         options.max_step_rotation / std::max(std::abs(delta[2]), 1e-12)});
+    delta *= scale;
     x.t += RotationMatrix2D(x.theta) * delta.head<2>();
     x.theta = NormalizeAngle(x.theta + delta[2]);
     if (delta.head<2>().norm() < options.translation_tolerance &&
@@ -278,30 +286,50 @@ MatchResult MatchTarget::Icp(const Points2 &source, const Pose2 &initial,
   return result;
 }
 
-void MatchTarget::BuildLikelihood(const CorrelativeOptions &options) const {
-  LikelihoodGrids &l = likelihood_;
+void MatchTarget::BuildLikelihood(const CorrelativeOptions& options,
+                                  const Eigen::Vector2d& want_lo,
+                                  const Eigen::Vector2d& want_hi) const {
+  LikelihoodGrids& l = likelihood_;
+  const double res = options.resolution;
+  const int kernel = static_cast<int>(std::ceil(3.0 * options.sigma / res));
+  const double reach = (kernel + 1) * res;
+  Eigen::Vector2d target_lo = points_[0], target_hi = points_[0];
+  for (const Eigen::Vector2d& p : points_) {
+    target_lo = target_lo.cwiseMin(p);
+    target_hi = target_hi.cwiseMax(p);
+  }
+  target_lo.array() -= reach;
+  target_hi.array() += reach;
+  // Only the part of the request where the likelihood can be non-zero.
+  const Eigen::Vector2d need_lo = want_lo.cwiseMax(target_lo);
+  const Eigen::Vector2d need_hi = want_hi.cwiseMin(target_hi);
   if (l.resolution == options.resolution && l.sigma == options.sigma &&
-      l.coarse_factor == options.coarse_factor && !l.fine.empty()) {
+      l.levels == std::max(0, options.levels) && !l.pyramid.empty() &&
+      (need_lo.array() >= l.valid_lo.array()).all() &&
+      (need_hi.array() <= l.valid_hi.array()).all()) {
     return;
   }
   l.resolution = options.resolution;
   l.sigma = options.sigma;
-  l.coarse_factor = std::max(1, options.coarse_factor);
-  const double res = options.resolution;
-  const int kernel = static_cast<int>(std::ceil(3.0 * options.sigma / res));
-  Eigen::Vector2d lo = points_[0], hi = points_[0];
-  for (const Eigen::Vector2d &p : points_) {
-    lo = lo.cwiseMin(p);
-    hi = hi.cwiseMax(p);
-  }
-  l.origin = lo - Eigen::Vector2d::Constant((kernel + 1) * res);
-  l.width = static_cast<int>((hi.x() - l.origin.x()) / res) + kernel + 2;
-  l.height = static_cast<int>((hi.y() - l.origin.y()) / res) + kernel + 2;
-  l.fine.assign(static_cast<size_t>(l.width) * l.height, 0.0f);
+  l.levels = std::max(0, options.levels);
+  // Some slack so that nearby queries (tracking) reuse the grids.
+  l.valid_lo = (want_lo.array() - 5.0).matrix().cwiseMax(target_lo);
+  l.valid_hi = (want_hi.array() + 5.0).matrix().cwiseMin(target_hi);
+  l.valid_hi = l.valid_hi.cwiseMax(l.valid_lo);
+  l.origin = l.valid_lo;
+  l.width = static_cast<int>((l.valid_hi.x() - l.origin.x()) / res) + 2;
+  l.height = static_cast<int>((l.valid_hi.y() - l.origin.y()) / res) + 2;
+  l.pyramid.assign(
+      1, std::vector<float>(static_cast<size_t>(l.width) * l.height, 0.0f));
+  std::vector<float>& fine = l.pyramid[0];
   const double inv_two_sigma2 = 1.0 / (2.0 * options.sigma * options.sigma);
-  for (const Eigen::Vector2d &p : points_) {
-    const int cx = static_cast<int>((p.x() - l.origin.x()) / res);
-    const int cy = static_cast<int>((p.y() - l.origin.y()) / res);
+  for (const Eigen::Vector2d& p : points_) {
+    if ((p.array() < l.valid_lo.array() - reach).any() ||
+        (p.array() > l.valid_hi.array() + reach).any()) {
+      continue;
+    }
+    const int cx = static_cast<int>(std::floor((p.x() - l.origin.x()) / res));
+    const int cy = static_cast<int>(std::floor((p.y() - l.origin.y()) / res));
     for (int y = std::max(0, cy - kernel);
          y <= std::min(l.height - 1, cy + kernel); ++y) {
       for (int x = std::max(0, cx - kernel);
@@ -310,45 +338,49 @@ void MatchTarget::BuildLikelihood(const CorrelativeOptions &options) const {
             l.origin + res * Eigen::Vector2d(x + 0.5, y + 0.5);
         const float v = static_cast<float>(
             std::exp(-(center - p).squaredNorm() * inv_two_sigma2));
-        float &cell = l.fine[static_cast<size_t>(y) * l.width + x];
+        float& cell = fine[static_cast<size_t>(y) * l.width + x];
         cell = std::max(cell, v);
       }
     }
   }
-  // coarse[i, j] = max of fine over [i, i + f) x [j, j + f): an upper bound of
-  // the fine value for every fine offset inside a coarse step.
-  const int f = l.coarse_factor;
-  std::vector<float> row_max(l.fine.size(), 0.0f);
-  for (int y = 0; y < l.height; ++y) {
-    for (int x = 0; x < l.width; ++x) {
-      float m = 0.0f;
-      for (int k = 0; k < f && x + k < l.width; ++k) {
-        m = std::max(m, l.fine[static_cast<size_t>(y) * l.width + x + k]);
+  // Level l from level l-1: the max of four blocks of side 2^(l-1).
+  for (int level = 1; level <= l.levels; ++level) {
+    const int step = 1 << (level - 1);
+    const std::vector<float>& below = l.pyramid[level - 1];
+    std::vector<float> up(below.size(), 0.0f);
+    for (int y = 0; y < l.height; ++y) {
+      for (int x = 0; x < l.width; ++x) {
+        const size_t i = static_cast<size_t>(y) * l.width + x;
+        float m = below[i];
+        if (x + step < l.width) m = std::max(m, below[i + step]);
+        if (y + step < l.height) {
+          m = std::max(m, below[i + static_cast<size_t>(step) * l.width]);
+          if (x + step < l.width) {
+            m = std::max(m,
+                         below[i + static_cast<size_t>(step) * l.width + step]);
+          }
+        }
+        up[i] = m;
       }
-      row_max[static_cast<size_t>(y) * l.width + x] = m;
     }
-  }
-  l.coarse.assign(l.fine.size(), 0.0f);
-  for (int y = 0; y < l.height; ++y) {
-    for (int x = 0; x < l.width; ++x) {
-      float m = 0.0f;
-      for (int k = 0; k < f && y + k < l.height; ++k) {
-        m = std::max(m, row_max[static_cast<size_t>(y + k) * l.width + x]);
-      }
-      l.coarse[static_cast<size_t>(y) * l.width + x] = m;
-    }
+    l.pyramid.push_back(std::move(up));
   }
 }
 
-Pose2 MatchTarget::Correlative(const Points2 &source, const Pose2 &initial,
-                               const CorrelativeOptions &options,
-                               double *score) const {
+Pose2 MatchTarget::Correlative(const Points2& source, const Pose2& initial,
+                               const CorrelativeOptions& options,
+                               double* score) const {
   *score = 0.0;
   if (points_.empty() || source.empty()) return initial;
-  BuildLikelihood(options);
-  const LikelihoodGrids &l = likelihood_;
+  double source_reach = 0.0;
+  for (const Eigen::Vector2d& p : source) {
+    source_reach = std::max(source_reach, p.norm());
+  }
+  source_reach += options.window_xy + 2.0 * options.resolution;
+  BuildLikelihood(options, initial.t.array() - source_reach,
+                  initial.t.array() + source_reach);
+  const LikelihoodGrids& l = likelihood_;
   const double res = l.resolution;
-  const int f = l.coarse_factor;
   const int nxy = static_cast<int>(std::ceil(options.window_xy / res));
   const int ntheta = options.step_theta > 0
                          ? static_cast<int>(std::ceil(options.window_theta /
@@ -367,10 +399,10 @@ Pose2 MatchTarget::Correlative(const Points2 &source, const Pose2 &initial,
       cy[a * n + i] = static_cast<int>(std::floor(q.y() / res));
     }
   }
-  auto sum = [&](const std::vector<float> &grid, int a, int dx, int dy) {
+  auto sum = [&](const std::vector<float>& grid, int a, int dx, int dy) {
     double s = 0.0;
-    const int *px = &cx[a * n];
-    const int *py = &cy[a * n];
+    const int* px = &cx[a * n];
+    const int* py = &cy[a * n];
     for (size_t i = 0; i < n; ++i) {
       const int x = px[i] + dx, y = py[i] + dy;
       if (x < 0 || y < 0 || x >= l.width || y >= l.height) continue;
@@ -378,45 +410,61 @@ Pose2 MatchTarget::Correlative(const Points2 &source, const Pose2 &initial,
     }
     return s;
   };
+  // Depth-first branch and bound: a candidate (angle, dx, dy) at level l
+  // stands for the offsets [dx, dx + 2^l) x [dy, dy + 2^l); its score on
+  // pyramid[l] bounds the fine score of every one of them.
   struct Candidate {
     double upper;
     int angle, dx, dy;
   };
-  std::vector<Candidate> candidates;
-  for (int a = 0; a < num_angles; ++a) {
-    for (int dy = -nxy; dy <= nxy; dy += f) {
-      for (int dx = -nxy; dx <= nxy; dx += f) {
-        candidates.push_back({sum(l.coarse, a, dx, dy), a, dx, dy});
-      }
-    }
-  }
-  std::sort(
-      candidates.begin(), candidates.end(),
-      [](const Candidate &u, const Candidate &v) { return u.upper > v.upper; });
   double best = -1.0;
   int best_a = ntheta, best_dx = 0, best_dy = 0;
-  for (const Candidate &c : candidates) {
-    if (c.upper <= best) break;
-    for (int fy = 0; fy < f && c.dy + fy <= nxy; ++fy) {
-      for (int fx = 0; fx < f && c.dx + fx <= nxy; ++fx) {
-        const double s = sum(l.fine, c.angle, c.dx + fx, c.dy + fy);
-        if (s > best) {
-          best = s;
-          best_a = c.angle;
-          best_dx = c.dx + fx;
-          best_dy = c.dy + fy;
+  auto by_score = [](const Candidate& u, const Candidate& v) {
+    return u.upper > v.upper;
+  };
+  std::function<void(std::vector<Candidate>&, int)> search =
+      [&](std::vector<Candidate>& candidates, int level) {
+        std::sort(candidates.begin(), candidates.end(), by_score);
+        for (const Candidate& c : candidates) {
+          if (c.upper <= best) break;
+          if (level == 0) {
+            best = c.upper;
+            best_a = c.angle;
+            best_dx = c.dx;
+            best_dy = c.dy;
+            continue;
+          }
+          const int half = 1 << (level - 1);
+          std::vector<Candidate> children;
+          for (int oy = 0; oy <= half; oy += half) {
+            for (int ox = 0; ox <= half; ox += half) {
+              const int dx = c.dx + ox, dy = c.dy + oy;
+              if (dx > nxy || dy > nxy) continue;
+              children.push_back({sum(l.pyramid[level - 1], c.angle, dx, dy),
+                                  c.angle, dx, dy});
+            }
+          }
+          search(children, level - 1);
         }
+      };
+  const int top = l.levels;
+  std::vector<Candidate> roots;
+  for (int a = 0; a < num_angles; ++a) {
+    for (int dy = -nxy; dy <= nxy; dy += 1 << top) {
+      for (int dx = -nxy; dx <= nxy; dx += 1 << top) {
+        roots.push_back({sum(l.pyramid[top], a, dx, dy), a, dx, dy});
       }
     }
   }
+  search(roots, top);
   *score = std::max(0.0, best) / static_cast<double>(n);
   return Pose2(initial.t.x() + best_dx * res, initial.t.y() + best_dy * res,
                initial.theta + (best_a - ntheta) * options.step_theta);
 }
 
-MatchResult MatchTarget::Match(const Points2 &source, const Pose2 &initial,
-                               const CorrelativeOptions &correlative,
-                               const IcpOptions &icp) const {
+MatchResult MatchTarget::Match(const Points2& source, const Pose2& initial,
+                               const CorrelativeOptions& correlative,
+                               const IcpOptions& icp) const {
   double score = 0.0;
   const Pose2 coarse = Correlative(source, initial, correlative, &score);
   MatchResult result = Icp(source, coarse, icp);

@@ -1,7 +1,8 @@
 // 2D scan matching: point-to-line ICP (Gauss-Newton on point-to-line
 // distances, normals from neighbouring target points) and a correlative
 // search (Olson, "Real-time correlative scan matching", ICRA 2009) on a
-// likelihood grid, two resolutions with exact branch and bound, refined by
+// likelihood grid with an exact multi-level branch and bound over the
+// translations (a max-pyramid as in Hess et al., ICRA 2016), refined by
 // ICP.
 //
 // Frames: a MatchTarget holds points in its own frame T (a keyframe's body
@@ -32,21 +33,24 @@ namespace slam {
 using Points2 = std::vector<Eigen::Vector2d>;
 
 // p -> R p + t for every point.
-Points2 TransformPoints(const Pose2 &pose, const Points2 &points);
+Points2 TransformPoints(const Pose2& pose, const Points2& points);
 // Beam endpoints in the laser frame; readings outside [min_range,
 // max_range) or not finite are dropped.
-Points2 RangesToPoints(const std::vector<float> &ranges, double angle_min,
+Points2 RangesToPoints(const std::vector<float>& ranges, double angle_min,
                        double angle_increment, double min_range,
                        double max_range);
 // One point per occupied cell of a square grid of side `cell` (the centroid
 // of the points falling into it), in first-seen order.
-Points2 VoxelFilter(const Points2 &points, double cell);
+Points2 VoxelFilter(const Points2& points, double cell);
 
 struct IcpOptions {
   // Correspondences farther than this (m) from the transformed point are
   // dropped (trimming).
   double max_correspondence_distance = 0.3;
   int max_iterations = 30;
+  // Largest Gauss-Newton step per iteration (m, rad).
+  double max_step_translation = 0.1;
+  double max_step_rotation = 0.05;
   // Huber kernel width on the point-to-line distance (m).
   double huber_width = 0.03;
   // Stop when the step is below both (m, rad).
@@ -61,8 +65,10 @@ struct IcpOptions {
 };
 
 struct CorrelativeOptions {
-  double resolution = 0.05;   // Fine grid cell (m).
-  int coarse_factor = 4;      // Coarse translation step = factor * cell.
+  double resolution = 0.05;  // Fine grid cell (m).
+  // Branch-and-bound levels above the fine grid: level l bounds blocks of
+  // 2^l x 2^l fine offsets (0: exhaustive search at the fine level).
+  int levels = 3;
   double sigma = 0.05;        // Likelihood exp(-d^2 / 2 sigma^2) (m).
   double window_xy = 0.3;     // Search +-window around the guess (m).
   double window_theta = 0.2;  // ... (rad).
@@ -94,36 +100,44 @@ class MatchTarget {
   // no normal and are not matched against.
   void Build(Points2 points, double cell_size, double normal_radius);
 
-  const Points2 &points() const { return points_; }
+  const Points2& points() const { return points_; }
   bool empty() const { return points_.empty(); }
 
   // Nearest target point within max_distance; -1 if none.
-  int Nearest(const Eigen::Vector2d &query, double max_distance) const;
+  int Nearest(const Eigen::Vector2d& query, double max_distance) const;
 
   // Point-to-line ICP from `initial`.
-  MatchResult Icp(const Points2 &source, const Pose2 &initial,
-                  const IcpOptions &options) const;
+  MatchResult Icp(const Points2& source, const Pose2& initial,
+                  const IcpOptions& options) const;
 
   // Best pose on the search lattice around `initial` by the correlative
   // score (mean likelihood of the source points); writes the score.
-  Pose2 Correlative(const Points2 &source, const Pose2 &initial,
-                    const CorrelativeOptions &options, double *score) const;
+  Pose2 Correlative(const Points2& source, const Pose2& initial,
+                    const CorrelativeOptions& options, double* score) const;
 
   // Correlative search, then ICP from its result.
-  MatchResult Match(const Points2 &source, const Pose2 &initial,
-                    const CorrelativeOptions &correlative,
-                    const IcpOptions &icp) const;
+  MatchResult Match(const Points2& source, const Pose2& initial,
+                    const CorrelativeOptions& correlative,
+                    const IcpOptions& icp) const;
 
  private:
   struct LikelihoodGrids {
     double resolution = 0.0, sigma = 0.0;
-    int coarse_factor = 0;
+    int levels = -1;
     Eigen::Vector2d origin = Eigen::Vector2d::Zero();
     int width = 0, height = 0;
-    std::vector<float> fine;    // Likelihood per cell.
-    std::vector<float> coarse;  // Max of fine over [i, i+f) x [j, j+f).
+    // pyramid[l][i, j] = max of fine over [i, i + 2^l) x [j, j + 2^l);
+    // pyramid[0] is the fine grid.
+    std::vector<std::vector<float>> pyramid;
+    // The part of the plane the grids are valid for (outside: 0).
+    Eigen::Vector2d valid_lo = Eigen::Vector2d::Zero();
+    Eigen::Vector2d valid_hi = Eigen::Vector2d::Zero();
   };
-  void BuildLikelihood(const CorrelativeOptions &options) const;
+  // Makes the grids valid over [lo, hi] (where the source points can land);
+  // they are rebuilt only when the options change or the box is not covered.
+  void BuildLikelihood(const CorrelativeOptions& options,
+                       const Eigen::Vector2d& lo,
+                       const Eigen::Vector2d& hi) const;
 
   Points2 points_;
   std::vector<Eigen::Vector2d> normals_;

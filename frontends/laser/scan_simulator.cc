@@ -10,10 +10,10 @@ std::vector<Wall> RectangleWalls(double x0, double y0, double x1, double y1) {
   return {{a, b}, {b, c}, {c, d}, {d, a}};
 }
 
-std::vector<float> SimulateScan(const std::vector<Wall> &walls,
-                                const Pose2 &laser_pose,
-                                const ScanGeometry &geometry, double sigma,
-                                std::mt19937 *rng) {
+std::vector<float> SimulateScan(const std::vector<Wall>& walls,
+                                const Pose2& laser_pose,
+                                const ScanGeometry& geometry, double sigma,
+                                std::mt19937* rng) {
   std::normal_distribution<double> noise(0.0, sigma);
   std::vector<float> ranges(geometry.num_beams);
   for (int i = 0; i < geometry.num_beams; ++i) {
@@ -21,7 +21,7 @@ std::vector<float> SimulateScan(const std::vector<Wall> &walls,
         laser_pose.theta + geometry.angle_min + i * geometry.angle_increment;
     const Eigen::Vector2d dir(std::cos(angle), std::sin(angle));
     double best = std::numeric_limits<double>::infinity();
-    for (const Wall &w : walls) {
+    for (const Wall& w : walls) {
       // Solve o + s dir = a + u (b - a), s > 0, u in [0, 1].
       const Eigen::Vector2d e = w.b - w.a;
       const double den = dir.x() * (-e.y()) - dir.y() * (-e.x());

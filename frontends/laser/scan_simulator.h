@@ -28,10 +28,10 @@ struct ScanGeometry {
 // Ranges seen from the laser pose (world frame). Beams that hit nothing
 // within max_range read max_range. Gaussian range noise of `sigma` when
 // `rng` is given.
-std::vector<float> SimulateScan(const std::vector<Wall> &walls,
-                                const Pose2 &laser_pose,
-                                const ScanGeometry &geometry, double sigma,
-                                std::mt19937 *rng);
+std::vector<float> SimulateScan(const std::vector<Wall>& walls,
+                                const Pose2& laser_pose,
+                                const ScanGeometry& geometry, double sigma,
+                                std::mt19937* rng);
 
 }  // namespace slam
 
