@@ -8,6 +8,9 @@
 //             [--rpe_pairs_from_reference] [--rpe_delta_tol 0.1] [--kitti]
 //             [--plot DIR] [--report FILE.json] [--config FILE] [--dump_config]
 //   slam eval GT EST [flags]         (positional form)
+//   slam eval --relations FILE --est EST [--relations_t_max_diff 0.001]
+//             [--relations_interpolate] [--report FILE.json]
+//             (the relation-based error of Kuemmerle et al. 2009; no --ref)
 //
 // Definitions: core/evaluation.h (evo's APE/RPE, the KITTI devkit metric).
 // Exit codes: 0 success, 1 evaluation or file error, 2 usage error.
@@ -23,10 +26,13 @@
 #include "apps/commands.h"
 #include "apps/common_flags.h"
 #include "apps/eval_report.h"
+#include "apps/format.h"
 #include "apps/json.h"
+#include "apps/relation_report.h"
 #include "apps/yaml_config.h"
 #include "core/evaluation.h"
 #include "datasets/atomic_file.h"
+#include "datasets/relations_io.h"
 #include "datasets/trajectory_io.h"
 
 DEFINE_string(ref, "", "eval: reference (ground-truth) trajectory file");
@@ -66,6 +72,17 @@ DEFINE_double(rpe_delta_tol, 0.1,
 DEFINE_bool(kitti, false,
             "eval: also the KITTI odometry devkit metric (segments of 100..800 "
             "m: t_rel %, r_rel deg/100m)");
+
+DEFINE_string(relations, "",
+              "eval: ground-truth relations file ('t1 t2 x y z roll pitch "
+              "yaw', e.g. aces.relations): report the relation-based error of "
+              "Kuemmerle et al. 2009 of --est instead of APE/RPE");
+DEFINE_double(relations_t_max_diff, 0.001,
+              "eval: --relations: max. difference (s) between a relation "
+              "stamp and the estimate's nearest stamp");
+DEFINE_bool(relations_interpolate, false,
+            "eval: --relations: interpolate the estimate between its poses "
+            "for stamps without a pose within --relations_t_max_diff");
 
 namespace slam {
 namespace {
@@ -141,6 +158,16 @@ bool BuildSettings(EvalSettings* s, bool* associate_auto, std::string* error) {
   }
   if (use("rpe_delta_tol")) s->rpe.rel_delta_tol = FLAGS_rpe_delta_tol;
   if (use("kitti")) s->kitti = FLAGS_kitti;
+  if (use("relations_t_max_diff")) {
+    s->relations.t_max_diff = FLAGS_relations_t_max_diff;
+  }
+  if (use("relations_interpolate")) {
+    s->relations.interpolate = FLAGS_relations_interpolate;
+  }
+  if (!(s->relations.t_max_diff >= 0.0)) {
+    *error = "relations_t_max_diff must be >= 0";
+    return false;
+  }
   if (!(s->sync.t_max_diff >= 0.0)) {
     *error = "t_max_diff must be >= 0";
     return false;
@@ -168,6 +195,53 @@ std::string Describe(const TrajectoryData& d) {
   return s + ")";
 }
 
+// slam eval --relations FILE --est EST.
+int RunRelationEval(const std::string& est_path,
+                    const TrajectoryReadOptions& est_options,
+                    const EvalSettings& settings) {
+  const auto start = std::chrono::steady_clock::now();
+  std::string error;
+  std::vector<PoseRelation> relations;
+  if (!ReadRelations(FLAGS_relations, &relations, &error)) return Fail(error);
+  TrajectoryData est;
+  if (!ReadTrajectory(est_path, est_options, &est, &error)) return Fail(error);
+  if (!est.has_stamps) {
+    return Fail(est.path + ": the relation error needs stamps (give KITTI "
+                "times with --est_times)");
+  }
+  std::cout << "relations: " << FLAGS_relations << " (" << relations.size()
+            << " relations, " << FormatStampSeconds(relations.front().t1)
+            << " .. " << FormatStampSeconds(relations.back().t2) << " s)\n"
+            << "estimate:  " << Describe(est) << "\n";
+  RelationErrorResult result;
+  if (!ComputeRelationError(est.poses, relations, settings.relations, &result,
+                            &error)) {
+    return Fail(error);
+  }
+  PrintRelationError(result, settings.relations, std::cout);
+  const double ms = std::chrono::duration<double, std::milli>(
+                        std::chrono::steady_clock::now() - start)
+                        .count();
+  std::cout << "time: " << Fmt("%.1f", ms) << " ms\n";
+  if (!FLAGS_report.empty()) {
+    JsonObject report, relations_json, est_json;
+    relations_json.Add("path", FLAGS_relations).Add("count", relations.size());
+    est_json.Add("path", est.path)
+        .Add("format", TrajectoryFormatName(est.format))
+        .Add("poses", est.poses.size());
+    report.Add("command", "eval")
+        .Add("relations", relations_json)
+        .Add("estimate", est_json)
+        .Add("relation_error", RelationErrorJson(result, settings.relations));
+    if (!WriteFileAtomically(FLAGS_report, report.ToString(0) + "\n",
+                             &error)) {
+      return Fail(error);
+    }
+    std::cout << "report: " << FLAGS_report << "\n";
+  }
+  return 0;
+}
+
 }  // namespace
 
 int RunEvalCommand(const std::vector<std::string>& args) {
@@ -175,7 +249,12 @@ int RunEvalCommand(const std::vector<std::string>& args) {
   std::string ref_path = FLAGS_ref;
   std::string est_path = FLAGS_est;
   std::vector<std::string> rest = args;
-  if (ref_path.empty() && !rest.empty()) {
+  const bool relations = !FLAGS_relations.empty();
+  if (relations && est_path.empty() && !rest.empty()) {
+    est_path = rest.front();  // slam eval --relations FILE EST.
+    rest.erase(rest.begin());
+  }
+  if (!relations && ref_path.empty() && !rest.empty()) {
     ref_path = rest.front();
     rest.erase(rest.begin());
   }
@@ -197,7 +276,16 @@ int RunEvalCommand(const std::vector<std::string>& args) {
     std::cout << "eval:\n" << EvalSettingsYaml(settings, associate_auto, 2);
     return 0;
   }
-  if (ref_path.empty() || est_path.empty()) {
+  if (relations) {
+    if (!ref_path.empty()) {
+      return Fail("--ref is not used with --relations (the relations are "
+                  "the ground truth)",
+                  2);
+    }
+    if (est_path.empty()) {
+      return Fail("give the estimate: slam eval --relations FILE --est EST", 2);
+    }
+  } else if (ref_path.empty() || est_path.empty()) {
     return Fail("give the reference and the estimate: slam eval --ref GT "
                 "--est EST [flags] (slam eval --help lists the flags)",
                 2);
@@ -221,6 +309,7 @@ int RunEvalCommand(const std::vector<std::string>& args) {
   }
   ref_options.kitti_times_path = FLAGS_ref_times;
   est_options.kitti_times_path = FLAGS_est_times;
+  if (relations) return RunRelationEval(est_path, est_options, settings);
 
   TrajectoryData ref, est;
   if (!ReadTrajectory(ref_path, ref_options, &ref, &error)) return Fail(error);

@@ -275,7 +275,8 @@ bool ReadEvalSettingsYaml(const YAML::Node& node, const std::string& where,
   if (!CheckKnownKeys(node,
                       {"associate", "t_max_diff", "t_offset", "align",
                        "n_to_align", "rpe_delta", "rpe_unit", "rpe_all_pairs",
-                       "rpe_pairs_from_reference", "rpe_delta_tol", "kitti"},
+                       "rpe_pairs_from_reference", "rpe_delta_tol", "kitti",
+                       "relations_t_max_diff", "relations_interpolate"},
                       where, error)) {
     return false;
   }
@@ -297,7 +298,11 @@ bool ReadEvalSettingsYaml(const YAML::Node& node, const std::string& where,
                     &s->rpe.pairs_from_reference, error) ||
       !ReadOptional(node, "rpe_delta_tol", where, &s->rpe.rel_delta_tol,
                     error) ||
-      !ReadOptional(node, "kitti", where, &s->kitti, error)) {
+      !ReadOptional(node, "kitti", where, &s->kitti, error) ||
+      !ReadOptional(node, "relations_t_max_diff", where,
+                    &s->relations.t_max_diff, error) ||
+      !ReadOptional(node, "relations_interpolate", where,
+                    &s->relations.interpolate, error)) {
     return false;
   }
   if (associate == "auto") {
@@ -354,6 +359,11 @@ std::string EvalSettingsYaml(const EvalSettings& s, bool associate_auto,
     << "         # relative, all-pairs mode (m, s)\n";
   o << pad << "kitti: " << (s.kitti ? "true" : "false")
     << "              # KITTI devkit metric\n";
+  o << pad << "relations_t_max_diff: " << Fmt("%.17g", s.relations.t_max_diff)
+    << "   # s, --relations: stamp match\n";
+  o << pad << "relations_interpolate: "
+    << (s.relations.interpolate ? "true" : "false")
+    << "  # --relations: interpolate poses between stamps\n";
   return o.str();
 }
 

@@ -84,7 +84,8 @@ bool WriteEvalPlotsImpl(const std::string& dir, const EvalResult& result,
 // The `eval:` section of a YAML config. Keys: associate (auto|time|index),
 // t_max_diff, t_offset, align (none|se3|sim3|scale|origin), n_to_align,
 // rpe_delta, rpe_unit (frames|m|s), rpe_all_pairs, rpe_pairs_from_reference,
-// rpe_delta_tol, kitti. Unknown keys are errors. *associate_auto is set when
+// rpe_delta_tol, kitti, relations_t_max_diff, relations_interpolate (for
+// slam eval --relations). Unknown keys are errors. *associate_auto is set when
 // associate is auto (the caller decides from the stamps).
 bool ReadEvalSettingsYaml(const YAML::Node& node, const std::string& where,
                           EvalSettings* settings, bool* associate_auto,

@@ -67,6 +67,7 @@ bool CheckOccupancyGridConfig(const OccupancyGridConfig& c,
        "> min_range"},
       {"free_thresh", finite(c.free_thresh) && c.free_thresh > 0.0,
        "in (0, occupied_thresh)"},
+      {"max_cells", c.max_cells > 0, "> 0"},
       {"occupied_thresh",
        finite(c.occupied_thresh) && c.occupied_thresh > c.free_thresh &&
            c.occupied_thresh < 1.0,
@@ -96,10 +97,10 @@ int64_t OccupancyGrid::Offset(int64_t ix, int64_t iy) const {
   return row * width_ + col;
 }
 
-void OccupancyGrid::Grow(int64_t x0, int64_t y0, int64_t x1, int64_t y1) {
+bool OccupancyGrid::Grow(int64_t x0, int64_t y0, int64_t x1, int64_t y1) {
   if (width_ > 0 && x0 >= min_ix_ && y0 >= min_iy_ && x1 < min_ix_ + width_ &&
       y1 < min_iy_ + height_) {
-    return;
+    return true;
   }
   int64_t nx0 = x0 - kGrowMargin;
   int64_t ny0 = y0 - kGrowMargin;
@@ -116,6 +117,19 @@ void OccupancyGrid::Grow(int64_t x0, int64_t y0, int64_t x1, int64_t y1) {
     const int64_t old_y1 = min_iy_ + height_ - 1;
     nx1 = x1 > old_x1 ? std::max(nx1, old_x1 + mx) : old_x1;
     ny1 = y1 > old_y1 ? std::max(ny1, old_y1 + my) : old_y1;
+  }
+  const auto too_large = [&] {
+    return static_cast<double>(nx1 - nx0 + 1) *
+               static_cast<double>(ny1 - ny0 + 1) >
+           static_cast<double>(config_.max_cells);
+  };
+  if (too_large()) {
+    // Without the margins, in case that fits.
+    nx0 = width_ > 0 ? std::min(x0, min_ix_) : x0;
+    ny0 = width_ > 0 ? std::min(y0, min_iy_) : y0;
+    nx1 = width_ > 0 ? std::max(x1, min_ix_ + width_ - 1) : x1;
+    ny1 = width_ > 0 ? std::max(y1, min_iy_ + height_ - 1) : y1;
+    if (too_large()) return false;
   }
   const int64_t new_width = nx1 - nx0 + 1;
   const int64_t new_height = ny1 - ny0 + 1;
@@ -134,9 +148,19 @@ void OccupancyGrid::Grow(int64_t x0, int64_t y0, int64_t x1, int64_t y1) {
   min_iy_ = ny0;
   width_ = new_width;
   height_ = new_height;
+  return true;
 }
 
-void OccupancyGrid::InsertScan(const Pose2& laser_pose, const LaserScan& scan) {
+bool OccupancyGrid::InsertScan(const Pose2& laser_pose, const LaserScan& scan) {
+  // Far beyond any grid that fits in memory, coordinates cannot become cell
+  // indices.
+  const double limit = 1e12 * config_.resolution;
+  if (!(std::abs(laser_pose.t.x()) < limit) ||
+      !(std::abs(laser_pose.t.y()) < limit) ||
+      !std::isfinite(laser_pose.theta) || !std::isfinite(scan.angle_min) ||
+      !std::isfinite(scan.angle_increment)) {
+    return false;
+  }
   struct Beam {
     int64_t x;
     int64_t y;
@@ -171,9 +195,9 @@ void OccupancyGrid::InsertScan(const Pose2& laser_pose, const LaserScan& scan) {
     y1 = std::max(y1, beam.y);
     beams.push_back(beam);
   }
+  if (!beams.empty() && !Grow(x0, y0, x1, y1)) return false;
   ++scans_inserted_;
-  if (beams.empty()) return;
-  Grow(x0, y0, x1, y1);
+  if (beams.empty()) return true;
   const uint32_t stamp = ++scan_counter_;
   const auto update = [&](int64_t ix, int64_t iy, double delta) {
     const int64_t o = Offset(ix, iy);
@@ -190,6 +214,7 @@ void OccupancyGrid::InsertScan(const Pose2& laser_pose, const LaserScan& scan) {
     TraceLine(sx, sy, beam.x, beam.y, !beam.hit,
               [&](int64_t ix, int64_t iy) { update(ix, iy, config_.l_free); });
   }
+  return true;
 }
 
 double OccupancyGrid::LogOdds(double x, double y) const {

@@ -45,6 +45,9 @@ struct OccupancyGridConfig {
   // Thresholds on the occupancy probability, written into the YAML.
   double occupied_thresh = 0.65;
   double free_thresh = 0.196;
+  // Largest grid (cells, 8 bytes each): a scan that would make the grid
+  // larger (e.g. at a wildly wrong pose) is refused.
+  int64_t max_cells = 100000000;
 };
 
 // False with a message naming the first bad field.
@@ -76,8 +79,9 @@ class OccupancyGrid {
   explicit OccupancyGrid(const OccupancyGridConfig& config = {});
 
   // Adds one scan taken with the laser at `laser_pose` (world frame; for a
-  // robot pose x: x * scan.laser_offset).
-  void InsertScan(const Pose2& laser_pose, const LaserScan& scan);
+  // robot pose x: x * scan.laser_offset). False (and nothing changed) when
+  // the pose is not finite or the grid would exceed config.max_cells.
+  bool InsertScan(const Pose2& laser_pose, const LaserScan& scan);
 
   // Cell index of a world point.
   int64_t CellIndex(double coordinate) const;
@@ -94,8 +98,9 @@ class OccupancyGrid {
   int scans_inserted() const { return scans_inserted_; }
 
  private:
-  // Makes cells [x0, x1] x [y0, y1] (global indices) part of the storage.
-  void Grow(int64_t x0, int64_t y0, int64_t x1, int64_t y1);
+  // Makes cells [x0, x1] x [y0, y1] (global indices) part of the storage;
+  // false when that would take more than config.max_cells.
+  bool Grow(int64_t x0, int64_t y0, int64_t x1, int64_t y1);
   // Storage index of a global cell, or -1 outside.
   int64_t Offset(int64_t ix, int64_t iy) const;
   CellState StateOf(int64_t offset) const;

@@ -335,6 +335,13 @@ TEST(CarmenIo, AcesLog) {
       NsToSeconds(log.scans.back().stamp - log.scans.front().stamp);
   EXPECT_GT(span, 1300.0);
   EXPECT_LT(span, 1400.0);
+
+  // The whole log through the writer and back.
+  const std::string copy = TempDir() + "/aces.clf";
+  ASSERT_TRUE(WriteCarmenLog(copy, log, &error)) << error;
+  CarmenLog back;
+  ASSERT_TRUE(ReadCarmenLog(copy, CarmenReadOptions(), &back, &error)) << error;
+  ExpectSameLog(log, back);
 }
 
 }  // namespace

@@ -174,6 +174,31 @@ TEST(OccupancyGrid, BeamRules) {
   }
 }
 
+TEST(OccupancyGrid, RefusesBadPosesAndHugeGrids) {
+  OccupancyGridConfig config;
+  // The first scan makes a grid of 149 x 129 cells (cells -64 .. 84 by -64 ..
+  // 64: the beam's cells 0 .. 20 and a margin of 64).
+  config.max_cells = 155000;
+  OccupancyGrid grid(config);
+  EXPECT_TRUE(grid.InsertScan(Pose2(0.025, 0.025, 0.0), OneBeam(1.0)));
+  const MapImage before = grid.ToImage();
+  // 1 km away: far more cells than allowed.
+  EXPECT_FALSE(grid.InsertScan(Pose2(1000.0, 0.0, 0.0), OneBeam(1.0)));
+  EXPECT_FALSE(grid.InsertScan(
+      Pose2(std::numeric_limits<double>::quiet_NaN(), 0.0, 0.0), OneBeam(1.0)));
+  EXPECT_FALSE(grid.InsertScan(Pose2(1e300, 0.0, 0.0), OneBeam(1.0)));
+  EXPECT_EQ(grid.scans_inserted(), 1);
+  const MapImage after = grid.ToImage();
+  EXPECT_EQ(after.pixels, before.pixels);
+  EXPECT_EQ(after.origin_x, before.origin_x);
+  // A hit in cell 1100: with the growth margins 1229 x 129 = 158541 cells do
+  // not fit, without them 1165 x 129 = 150285 do.
+  EXPECT_TRUE(grid.InsertScan(Pose2(54.001, 0.001, 0.0), OneBeam(1.0)));
+  EXPECT_FLOAT_EQ(grid.LogOdds(55.001, 0.001), config.l_occ);
+  EXPECT_FLOAT_EQ(grid.LogOdds(1.025, 0.025), config.l_occ);
+  EXPECT_EQ(grid.scans_inserted(), 2);
+}
+
 TEST(OccupancyGrid, ConfigChecks) {
   std::string error;
   EXPECT_TRUE(CheckOccupancyGridConfig(OccupancyGridConfig{}, &error));
