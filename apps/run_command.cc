@@ -27,6 +27,7 @@
 #include "apps/run_config.h"
 #include "datasets/carmen_io.h"
 #include "datasets/g2o_io.h"
+#include "datasets/relations_io.h"
 #include "datasets/trajectory_io.h"
 #include "frontends/laser/laser_slam.h"
 #include "frontends/occupancy_grid.h"
@@ -168,6 +169,12 @@ int RunRunCommand(const std::vector<std::string>& args) {
     std::cerr << log_path << ": no laser scans of the selected lasers\n";
     return 1;
   }
+  std::vector<PoseRelation> relations;
+  if (!config.relations.empty() &&
+      !ReadRelations(ResolveDataPath(config.relations), &relations, &error)) {
+    std::cerr << error << "\n";
+    return 1;
+  }
   const double read_seconds = Since(start);
 
   const auto slam_start = std::chrono::steady_clock::now();
@@ -228,6 +235,22 @@ int RunRunCommand(const std::vector<std::string>& args) {
   std::printf("run: wrote %s, %s\n", trajectory_path.c_str(),
               graph_path.c_str());
   if (!map_summary.empty()) std::printf("run: %s\n", map_summary.c_str());
+  if (!relations.empty()) {
+    RelationErrorResult r;
+    if (!ComputeRelationError(slam.ScanTrajectory(), relations,
+                              RelationErrorOptions(), &r, &error)) {
+      std::cerr << error << "\n";
+      return 1;
+    }
+    std::printf(
+        "run: relation error (%zu of %zu relations): translation %.4f +- "
+        "%.4f m (squared %.5f +- %.5f m^2), rotation %.3f +- %.3f deg "
+        "(squared %.3f +- %.3f deg^2)\n",
+        r.used.size(), r.relations, r.translation_abs.mean,
+        r.translation_abs.std, r.translation_sq.mean, r.translation_sq.std,
+        r.rotation_abs.mean, r.rotation_abs.std, r.rotation_sq.mean,
+        r.rotation_sq.std);
+  }
   return 0;
 }
 

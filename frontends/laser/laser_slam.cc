@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 
 #include "factors/pose_factors.h"
 
@@ -32,6 +30,23 @@ bool LoopMatchPasses(const MatchResult& match, const LaserSlamConfig& config) {
 }
 
 LaserSlam::LaserSlam(const LaserSlamConfig& config) : config_(config) {}
+
+Eigen::Matrix3d LaserSlam::MatchCovariance(const MatchResult& match) const {
+  return MatchCovariance(match.covariance);
+}
+
+Eigen::Matrix3d LaserSlam::MatchCovariance(const LoopHypothesis& h) const {
+  return MatchCovariance(h.covariance);
+}
+
+Eigen::Matrix3d LaserSlam::MatchCovariance(const Eigen::Matrix3d& c) const {
+  Eigen::Matrix3d out = c;
+  out.diagonal() += Eigen::Vector3d(
+      config_.match_min_sigma_xy * config_.match_min_sigma_xy,
+      config_.match_min_sigma_xy * config_.match_min_sigma_xy,
+      config_.match_min_sigma_theta * config_.match_min_sigma_theta);
+  return out;
+}
 
 Pose2 LaserSlam::KeyframePose(size_t k) const {
   return NodePose2(*graph_.FindNode(Pose2Key(static_cast<int64_t>(k))));
@@ -104,16 +119,6 @@ void LaserSlam::AddScan(const LaserScan& scan) {
     }
   }
   if (!matched) ++stats_.tracking_failures;
-  if (std::getenv("LASER_DEBUG") && stats_.scans < 400)
-    std::fprintf(
-        stderr,
-        "scan %d pts %zu submap %zu succ %d fit %.3f corr %d inl %d rmse %.4f "
-        "it %d matched %d pred %.3f %.3f %.3f got %.3f %.3f %.3f sc %.2f\n",
-        stats_.scans, points.size(), local_submap_.points().size(),
-        match.success, match.fitness, match.num_correspondences,
-        match.num_inliers, match.rmse, match.iterations, matched,
-        predicted.t.x(), predicted.t.y(), predicted.theta, match.pose.t.x(),
-        match.pose.t.y(), match.pose.theta, match.score);
   tracked_ = matched ? match.pose : predicted;
   stats_.matching_seconds += Seconds(start);
 
@@ -156,7 +161,7 @@ void LaserSlam::AddKeyframe(const LaserScan& scan, const Points2& points,
   if (k > 0) {
     const Pose2 prev = KeyframePose(k - 1);
     if (match != nullptr) {
-      AddBetween(k - 1, k, prev.Inverse() * tracked_, match->covariance,
+      AddBetween(k - 1, k, prev.Inverse() * tracked_, MatchCovariance(*match),
                  nullptr, false);
     }
     const OdometryDelta odom =
@@ -253,16 +258,6 @@ bool LaserSlam::DetectLoopClosures(int k) {
     const MatchResult match =
         target.Match(query, j_inv * pose_k, search, config_.icp);
     ++stats_.closures_proposed;
-    if (std::getenv("LOOP_DEBUG"))
-      std::fprintf(stderr,
-                   "loop k %d (t %.1f) j %d (t %.1f) d %.2f r %.2f score %.3f "
-                   "fit %.3f succ %d corr %.2f %.2f %.3f\n",
-                   k, NsToSeconds(current.stamp), j,
-                   NsToSeconds(keyframes_[j].stamp), candidate.distance,
-                   candidate.radius, match.score, match.fitness, match.success,
-                   (match.pose.t - (j_inv * pose_k).t).x(),
-                   (match.pose.t - (j_inv * pose_k).t).y(),
-                   match.pose.theta - (j_inv * pose_k).theta);
     if (!LoopMatchPasses(match, config_)) {
       continue;
     }
@@ -286,18 +281,15 @@ bool LaserSlam::DetectLoopClosures(int k) {
         continue;
       }
       consistent = true;
-      if (std::getenv("LOOP_DEBUG"))
-        std::fprintf(stderr, "accept %d-%d with %d-%d diff %.3f %.4f\n", j, k,
-                     other.j, other.k, diff.t.norm(), diff.theta);
       if (!other.added) {
-        AddBetween(other.j, other.k, other.z, other.covariance,
+        AddBetween(other.j, other.k, other.z, MatchCovariance(other),
                    MakeLoss(config_.loop_kernel), true);
         other.added = true;
         ++stats_.closures_accepted;
       }
     }
     if (consistent) {
-      AddBetween(j, k, match.pose, match.covariance,
+      AddBetween(j, k, match.pose, MatchCovariance(match),
                  MakeLoss(config_.loop_kernel), true);
       h.added = true;
       ++stats_.closures_accepted;
@@ -341,10 +333,6 @@ void LaserSlam::Finish() {
     if (factor == nullptr || !graph_.FactorChi2(*factor, &chi2)) continue;
     double rho[3] = {chi2, 1.0, 0.0};
     if (factor->loss) factor->loss->Evaluate(chi2, rho);
-    if (std::getenv("LOOP_DEBUG"))
-      std::fprintf(stderr, "final loop %ld-%ld chi2 %.1f w %.3f\n",
-                   (long)factor->keys[0].id, (long)factor->keys[1].id, chi2,
-                   rho[1]);
     if (rho[1] < config_.loop_reject_weight) rejected.push_back(id);
   }
   stats_.closures_rejected = static_cast<int>(rejected.size());

@@ -20,17 +20,21 @@
 //     poses, covariance from the ICP Hessian, frontends/laser/scan_matcher.h)
 //     and the odometry (relative odometry pose, differential-drive
 //     covariance, frontends/laser/odometry_model.h).
-//  5. Loop closure (each new keyframe k): candidates are older keyframes j
-//     at least loop_min_separation metres of path away whose estimated
-//     position lies within r = min(loop_max_radius, loop_search_radius +
-//     loop_radius_growth * path(j..k)) of keyframe k: the uncertainty of
-//     dead reckoning grows with the path travelled. The nearest
-//     loop_max_candidates (from different places) are verified by matching
-//     the scan against the submap of keyframes j-h..j+h (h =
-//     loop_submap_half_width) in keyframe j's frame: correlative search
-//     (loop_correlative) then ICP. Accepted when the correlative score and
-//     the ICP fitness pass their thresholds; the closure is a between factor
-//     with the robust kernel loop_kernel.
+//  5. Loop closure (every loop_every-th keyframe k): candidates are older
+//     keyframes j at least loop_min_separation metres of path away whose
+//     estimated position lies within r = min(loop_max_radius,
+//     loop_search_radius + loop_radius_growth * L) of keyframe k, L the path
+//     since j or since the last accepted closure plus loop_min_separation,
+//     whichever is shorter (dead-reckoning uncertainty grows with the path
+//     travelled without a closure). The nearest loop_max_candidates (from
+//     different places) are verified by matching the query (the last
+//     loop_query_keyframes keyframes as one cloud in k's frame) against the
+//     submap of keyframes j-h..j+h (h = loop_submap_half_width) in j's
+//     frame: correlative search over +-max(window, r) then ICP, passing
+//     LoopMatchPasses. A passing match is accepted only when the correction
+//     it implies agrees (loop_consistency_distance / _angle) with a passing
+//     match of another keyframe within loop_consistency_keyframes; both then
+//     enter the graph as between factors with the robust kernel loop_kernel.
 //  6. Optimization: after a loop closure (at most every
 //     loop_optimize_interval keyframes) and every optimize_every keyframes,
 //     with at most incremental_iterations iterations; the tracked pose
@@ -75,6 +79,12 @@ struct LaserSlamConfig {
   double max_tracking_jump = 0.5;  // m (and the same number in rad).
   CorrelativeOptions local_correlative{0.05, 3, 0.05, 0.4, 0.3, 0.01};
   OdometryNoise odometry;
+  // Added (as variances) to the matcher's Hessian covariance of every
+  // scan-match and loop-closure factor: the Hessian bound ignores
+  // correlated errors (range bias, discretization, wrong normals) and would
+  // make a chain of scan matches too stiff for loop closures to bend.
+  double match_min_sigma_xy = 0.01;      // m.
+  double match_min_sigma_theta = 0.003;  // rad.
   // Loop closure.
   bool loop_closure = true;
   double loop_min_separation = 10.0;  // m of path.
@@ -160,6 +170,11 @@ class LaserSlam {
   void RebuildLocalSubmap();
   bool DetectLoopClosures(int k);
   void OptimizeGraph(int max_iterations);
+  struct LoopHypothesis;
+  // The matcher's covariance plus the floor match_min_sigma_*.
+  Eigen::Matrix3d MatchCovariance(const MatchResult& match) const;
+  Eigen::Matrix3d MatchCovariance(const LoopHypothesis& h) const;
+  Eigen::Matrix3d MatchCovariance(const Eigen::Matrix3d& c) const;
   void AddBetween(int i, int j, const Pose2& z, const Eigen::Matrix3d& cov,
                   std::shared_ptr<ceres::LossFunction> loss, bool loop);
 

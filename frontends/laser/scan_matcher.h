@@ -49,8 +49,8 @@ struct IcpOptions {
   double max_correspondence_distance = 0.3;
   int max_iterations = 30;
   // Largest Gauss-Newton step per iteration (m, rad).
-  double max_step_translation = 0.1;
-  double max_step_rotation = 0.05;
+  double max_step_translation = 0.2;
+  double max_step_rotation = 0.1;
   // Huber kernel width on the point-to-line distance (m).
   double huber_width = 0.03;
   // Stop when the step is below both (m, rad).
