@@ -25,6 +25,7 @@ bool SmallMotion(const Pose2& a, const Pose2& b, double max_distance,
 bool LoopMatchPasses(const MatchResult& match, const LaserSlamConfig& config) {
   return match.success && match.score >= config.loop_min_score &&
          match.num_inliers >= config.loop_min_inliers &&
+         match.fitness >= config.loop_min_fitness &&
          match.num_inliers >=
              config.loop_min_inlier_ratio * match.num_correspondences;
 }
@@ -234,6 +235,10 @@ bool LaserSlam::DetectLoopClosures(int k) {
     query.insert(query.end(), p.begin(), p.end());
   }
   query = VoxelFilter(query, config_.loop_query_voxel);
+  const Points2 search_query =
+      config_.loop_search_voxel > config_.loop_query_voxel
+          ? VoxelFilter(query, config_.loop_search_voxel)
+          : query;
   bool accepted = false;
   for (const Candidate& candidate : chosen) {
     const int j = candidate.index;
@@ -255,8 +260,13 @@ bool LaserSlam::DetectLoopClosures(int k) {
     target.Build(VoxelFilter(submap, config_.submap_voxel),
                  config_.icp.max_correspondence_distance,
                  config_.normal_radius);
-    const MatchResult match =
-        target.Match(query, j_inv * pose_k, search, config_.icp);
+    // The search on a sparser copy of the query (its cost is linear in the
+    // points), ICP on the whole query.
+    double score = 0.0;
+    const Pose2 coarse =
+        target.Correlative(search_query, j_inv * pose_k, search, &score);
+    MatchResult match = target.Icp(query, coarse, config_.icp);
+    match.score = score;
     ++stats_.closures_proposed;
     if (!LoopMatchPasses(match, config_)) {
       continue;

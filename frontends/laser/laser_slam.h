@@ -95,10 +95,12 @@ struct LaserSlamConfig {
   int loop_submap_half_width = 6;  // keyframes.
   int loop_query_keyframes = 10;   // Last keyframes matched as one cloud.
   double loop_query_voxel = 0.1;   // m; thinning of that cloud.
+  double loop_search_voxel = 0.2;  // m; further thinning for the search.
   CorrelativeOptions loop_correlative{0.05, 6, 0.05, 1.5, 0.35, 0.01};
   int loop_every = 2;  // Check every n-th keyframe.
   double loop_min_score = 0.2;
   int loop_min_inliers = 100;
+  double loop_min_fitness = 0.0;       // Inliers / query points (overlap).
   double loop_min_inlier_ratio = 0.7;  // Of the correspondences.
   int loop_consistency_keyframes = 8;
   double loop_consistency_distance = 0.1;  // m.
@@ -128,8 +130,8 @@ struct LaserSlamStats {
 
 // The per-match test of a loop-closure candidate (before the consistency
 // check): ICP succeeded, correlative score >= loop_min_score, at least
-// loop_min_inliers inliers, and inliers >= loop_min_inlier_ratio of the
-// correspondences.
+// loop_min_inliers inliers, inliers >= loop_min_fitness of the query points
+// and >= loop_min_inlier_ratio of the correspondences.
 bool LoopMatchPasses(const MatchResult& match, const LaserSlamConfig& config);
 
 class LaserSlam {
