@@ -29,6 +29,7 @@
 #include "datasets/g2o_io.h"
 #include "datasets/relations_io.h"
 #include "datasets/trajectory_io.h"
+#include "frontends/laser/laser_map.h"
 #include "frontends/laser/laser_slam.h"
 #include "frontends/occupancy_grid.h"
 
@@ -95,14 +96,7 @@ double Since(std::chrono::steady_clock::time_point start) {
 bool WriteMap(const RunConfig& config, const LaserSlam& slam,
               const CarmenLog& log, std::string* summary, std::string* error) {
   OccupancyGrid grid(config.map);
-  const auto& records = slam.scan_records();
-  int last_keyframe = -1;
-  for (size_t i = 0; i < records.size(); ++i) {
-    if (records[i].keyframe == last_keyframe) continue;
-    last_keyframe = records[i].keyframe;
-    const LaserScan& scan = log.scans[i];
-    grid.InsertScan(slam.KeyframePose(last_keyframe) * scan.laser_offset, scan);
-  }
+  InsertKeyframeScans(slam, log.scans, &grid);
   const MapImage image = grid.ToImage();
   const fs::path dir(config.output_dir);
   std::vector<Eigen::Vector2d> path;
@@ -114,17 +108,15 @@ bool WriteMap(const RunConfig& config, const LaserSlam& slam,
       !WriteMapPng((dir / "map.png").string(), image, path, error)) {
     return false;
   }
-  size_t occupied = 0, known = 0;
-  for (uint8_t v : image.pixels) {
-    occupied += v == kPixelOccupied;
-    known += v != kPixelUnknown;
-  }
+  const MapSharpness sharpness = MeasureSharpness(grid);
   char text[256];
   std::snprintf(text, sizeof(text),
-                "map %d x %d cells at %.3f m: %zu occupied of %zu observed "
-                "(%.2f%%), wrote map.pgm, map.yaml, map.png",
-                image.width, image.height, image.resolution, occupied, known,
-                known > 0 ? 100.0 * occupied / known : 0.0);
+                "map %d x %d cells at %.3f m: %zu observed, %zu occupied, "
+                "%zu mixed-evidence (%.1f%% of mixed + occupied: lower is "
+                "sharper), wrote map.pgm, map.yaml, map.png",
+                image.width, image.height, image.resolution, sharpness.observed,
+                sharpness.occupied, sharpness.mixed,
+                100.0 * sharpness.MixedFraction());
   *summary = text;
   return true;
 }
