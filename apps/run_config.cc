@@ -102,6 +102,7 @@ Section Schema(RunConfig* c) {
          I("every", &s.loop_every),
          I("min_inliers", &s.loop_min_inliers),
          D("min_fitness", &s.loop_min_fitness),
+         D("max_sigma", &s.loop_max_sigma),
          D("min_inlier_ratio", &s.loop_min_inlier_ratio),
          I("consistency_keyframes", &s.loop_consistency_keyframes),
          D("consistency_distance", &s.loop_consistency_distance),

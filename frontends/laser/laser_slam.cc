@@ -1,5 +1,6 @@
 #include "frontends/laser/laser_slam.h"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -23,7 +24,16 @@ bool SmallMotion(const Pose2& a, const Pose2& b, double max_distance,
 }  // namespace
 
 bool LoopMatchPasses(const MatchResult& match, const LaserSlamConfig& config) {
+  // Degenerate geometry (a plain corridor) leaves a direction unconstrained:
+  // the match may have slid along it.
+  const double max_variance =
+      match.success ? Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(
+                          match.covariance.topLeftCorner<2, 2>())
+                          .eigenvalues()[1]
+                    : 0.0;
   return match.success && match.score >= config.loop_min_score &&
+         (config.loop_max_sigma <= 0 ||
+          max_variance <= config.loop_max_sigma * config.loop_max_sigma) &&
          match.num_inliers >= config.loop_min_inliers &&
          match.fitness >= config.loop_min_fitness &&
          match.num_inliers >=
