@@ -3,6 +3,7 @@
 //   slam optimize -i IN.g2o -o OUT.g2o [flags]   optimize a pose graph
 //   slam info FILE                               counts, components, chi2
 //   slam simulate -o DIR [flags]                 synthetic data with truth
+//   slam run --config configs/aces.yaml          2D laser SLAM on a CARMEN log
 //
 // `slam <command> --help` lists the flags. Every setting also has a YAML
 // form (--config FILE); --dump_config prints the effective configuration.
