@@ -1,0 +1,249 @@
+// slam run: 2D laser SLAM on a CARMEN log (frontends/laser/laser_slam.h).
+//
+//   slam run --config configs/aces.yaml [--datasets DIR] [--output_dir DIR]
+//
+// The log (and the optional relations file) are named relative to the
+// datasets directory: --datasets, else $SLAM_DATASETS, else
+// ../shared/datasets beside the repository holding the config file (the
+// config's directory's parent), else ../shared/datasets from the working
+// directory. Absolute paths are used as they are.
+//
+// Outputs in output_dir: trajectory.tum (every scan's robot pose, TUM),
+// graph.g2o (the keyframe pose graph), and the occupancy-grid map when
+// enabled. Progress bars while reading and processing; a summary at the end.
+#include <gflags/gflags.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "apps/commands.h"
+#include "apps/common_flags.h"
+#include "apps/map_png.h"
+#include "apps/run_config.h"
+#include "datasets/carmen_io.h"
+#include "datasets/g2o_io.h"
+#include "datasets/relations_io.h"
+#include "datasets/trajectory_io.h"
+#include "frontends/laser/laser_map.h"
+#include "frontends/laser/laser_slam.h"
+#include "frontends/occupancy_grid.h"
+
+DEFINE_string(datasets, "",
+              "run: datasets directory the log path is relative to (default "
+              "$SLAM_DATASETS, else ../shared/datasets beside the repository)");
+DEFINE_string(output_dir, "", "run: output directory (overrides the config)");
+
+namespace slam {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A one-line progress bar on stderr, redrawn when the percentage changes.
+class ProgressBar {
+ public:
+  explicit ProgressBar(const char* label) : label_(label) {}
+  void Update(double fraction) {
+    const int percent = static_cast<int>(fraction * 100.0);
+    if (percent == last_) return;
+    last_ = percent;
+    const int filled = percent / 4;
+    std::fprintf(stderr, "\r%-12s [%s%s] %3d%%", label_,
+                 std::string(filled, '#').c_str(),
+                 std::string(25 - filled, '.').c_str(), percent);
+    if (percent >= 100) std::fprintf(stderr, "\n");
+    std::fflush(stderr);
+  }
+  void Done() { Update(1.0); }
+
+ private:
+  const char* label_;
+  int last_ = -1;
+};
+
+std::string ResolveDataPath(const std::string& path) {
+  if (path.empty() || fs::path(path).is_absolute()) return path;
+  std::vector<std::string> dirs;
+  if (!FLAGS_datasets.empty()) {
+    dirs.push_back(FLAGS_datasets);
+  } else {
+    if (const char* env = std::getenv("SLAM_DATASETS")) dirs.push_back(env);
+    if (!FLAGS_config.empty()) {
+      dirs.push_back((fs::absolute(FLAGS_config).parent_path().parent_path() /
+                      ".." / "shared" / "datasets")
+                         .string());
+    }
+    dirs.push_back("../shared/datasets");
+  }
+  for (const std::string& dir : dirs) {
+    const fs::path candidate = fs::path(dir) / path;
+    if (fs::exists(candidate)) return candidate.string();
+  }
+  return (fs::path(dirs.front()) / path).string();
+}
+
+double Since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+      .count();
+}
+
+// The occupancy grid from the keyframe scans at their optimized poses:
+// map.pgm + map.yaml (map_server) and map.png with the trajectory.
+bool WriteMap(const RunConfig& config, const LaserSlam& slam,
+              const CarmenLog& log, std::string* summary, std::string* error) {
+  OccupancyGrid grid(config.map);
+  InsertKeyframeScans(slam, log.scans, &grid);
+  const MapImage image = grid.ToImage();
+  const fs::path dir(config.output_dir);
+  std::vector<Eigen::Vector2d> path;
+  for (const StampedPose& p : slam.ScanTrajectory()) {
+    path.push_back(p.pose.t.head<2>());
+  }
+  if (!WriteMapPgmYaml((dir / "map.pgm").string(), (dir / "map.yaml").string(),
+                       image, config.map, error) ||
+      !WriteMapPng((dir / "map.png").string(), image, path, error)) {
+    return false;
+  }
+  const MapSharpness sharpness = MeasureSharpness(grid);
+  char text[256];
+  std::snprintf(text, sizeof(text),
+                "map %d x %d cells at %.3f m: %zu observed, %zu occupied, "
+                "%zu mixed-evidence (%.1f%% of mixed + occupied: lower is "
+                "sharper), wrote map.pgm, map.yaml, map.png",
+                image.width, image.height, image.resolution, sharpness.observed,
+                sharpness.occupied, sharpness.mixed,
+                100.0 * sharpness.MixedFraction());
+  *summary = text;
+  return true;
+}
+
+}  // namespace
+
+int RunRunCommand(const std::vector<std::string>& args) {
+  if (!args.empty()) {
+    std::cerr << "run: unexpected argument '" << args[0] << "'\n";
+    return 2;
+  }
+  RunConfig config;
+  std::string error;
+  if (!FLAGS_config.empty() && !LoadRunConfig(FLAGS_config, &config, &error)) {
+    std::cerr << error << "\n";
+    return 1;
+  }
+  if (!FLAGS_output_dir.empty()) config.output_dir = FLAGS_output_dir;
+  if (FLAGS_dump_config) {
+    std::cout << RunConfigToYaml(config);
+    return 0;
+  }
+  if (config.log.empty()) {
+    std::cerr << "run: no log named (run.log in --config)\n";
+    return 2;
+  }
+  const auto start = std::chrono::steady_clock::now();
+  const std::string log_path = ResolveDataPath(config.log);
+  CarmenLog log;
+  {
+    ProgressBar bar("reading");
+    if (!ReadCarmenLog(log_path, config.lasers, &log, &error,
+                       [&bar](double f) { bar.Update(f); })) {
+      std::cerr << "\n" << error << "\n";
+      return 1;
+    }
+    bar.Done();
+  }
+  for (const std::string& w : log.warnings)
+    std::cerr << "warning: " << w << "\n";
+  if (log.scans.empty()) {
+    std::cerr << log_path << ": no laser scans of the selected lasers\n";
+    return 1;
+  }
+  std::vector<PoseRelation> relations;
+  if (!config.relations.empty() &&
+      !ReadRelations(ResolveDataPath(config.relations), &relations, &error)) {
+    std::cerr << error << "\n";
+    return 1;
+  }
+  const double read_seconds = Since(start);
+
+  const auto slam_start = std::chrono::steady_clock::now();
+  LaserSlam slam(config.slam);
+  {
+    ProgressBar bar("processing");
+    for (size_t i = 0; i < log.scans.size(); ++i) {
+      slam.AddScan(log.scans[i]);
+      bar.Update(static_cast<double>(i + 1) / log.scans.size());
+    }
+  }
+  slam.Finish();
+  const double slam_seconds = Since(slam_start);
+
+  std::error_code ec;
+  fs::create_directories(config.output_dir, ec);
+  if (ec) {
+    std::cerr << config.output_dir
+              << ": cannot create directory: " << ec.message() << "\n";
+    return 1;
+  }
+  const std::string trajectory_path =
+      (fs::path(config.output_dir) / "trajectory.tum").string();
+  const std::string graph_path =
+      (fs::path(config.output_dir) / "graph.g2o").string();
+  if (!WriteTrajectory(trajectory_path, slam.ScanTrajectory(),
+                       TrajectoryFormat::kTum, &error) ||
+      !WriteG2o(graph_path, slam.graph(), &error)) {
+    std::cerr << error << "\n";
+    return 1;
+  }
+
+  std::string map_summary;
+  if (config.write_map) {
+    const auto map_start = std::chrono::steady_clock::now();
+    if (!WriteMap(config, slam, log, &map_summary, &error)) {
+      std::cerr << error << "\n";
+      return 1;
+    }
+    char seconds[32];
+    std::snprintf(seconds, sizeof(seconds), " (%.2f s)", Since(map_start));
+    map_summary += seconds;
+  }
+
+  const LaserSlamStats& s = slam.stats();
+  std::printf(
+      "run: %d scans, %d keyframes; tracking: %d correlative, %d odometry "
+      "only; loop closures: %d proposed, %d accepted, %d rejected; %d "
+      "optimizations\n",
+      s.scans, s.keyframes, s.tracking_correlative, s.tracking_failures,
+      s.closures_proposed, s.closures_accepted, s.closures_rejected,
+      s.optimizations);
+  std::printf(
+      "run: time %.2f s (read %.2f s, slam %.2f s: matching %.2f, loops %.2f, "
+      "optimization %.2f)\n",
+      Since(start), read_seconds, slam_seconds, s.matching_seconds,
+      s.loop_seconds, s.optimization_seconds);
+  std::printf("run: wrote %s, %s\n", trajectory_path.c_str(),
+              graph_path.c_str());
+  if (!map_summary.empty()) std::printf("run: %s\n", map_summary.c_str());
+  if (!relations.empty()) {
+    RelationErrorResult r;
+    if (!ComputeRelationError(slam.ScanTrajectory(), relations,
+                              RelationErrorOptions(), &r, &error)) {
+      std::cerr << error << "\n";
+      return 1;
+    }
+    std::printf(
+        "run: relation error (%zu of %zu relations): translation %.4f +- "
+        "%.4f m (squared %.5f +- %.5f m^2), rotation %.3f +- %.3f deg "
+        "(squared %.3f +- %.3f deg^2)\n",
+        r.used.size(), r.relations, r.translation_abs.mean,
+        r.translation_abs.std, r.translation_sq.mean, r.translation_sq.std,
+        r.rotation_abs.mean, r.rotation_abs.std, r.rotation_sq.mean,
+        r.rotation_sq.std);
+  }
+  return 0;
+}
+
+}  // namespace slam

@@ -1,0 +1,313 @@
+#include "apps/run_config.h"
+
+#include <sstream>
+#include <vector>
+
+#include "apps/yaml_config.h"
+
+namespace slam {
+namespace {
+
+// The config as a tree of named fields pointing into the struct, so that
+// loading, the unknown-key check and printing share one description.
+struct Field {
+  enum Kind { kDouble, kInt, kBool, kString, kKernel };
+  const char* key;
+  Kind kind;
+  void* value;
+};
+
+struct Section {
+  const char* name;
+  std::vector<Field> fields;
+  std::vector<Section> children;
+};
+
+Field D(const char* key, double* v) { return {key, Field::kDouble, v}; }
+Field I(const char* key, int* v) { return {key, Field::kInt, v}; }
+Field B(const char* key, bool* v) { return {key, Field::kBool, v}; }
+Field S(const char* key, std::string* v) { return {key, Field::kString, v}; }
+Field K(const char* key, RobustKernelSpec* v) {
+  return {key, Field::kKernel, v};
+}
+
+Section IcpSection(IcpOptions* o) {
+  return {
+      "icp",
+      {D("max_correspondence_distance", &o->max_correspondence_distance),
+       I("max_iterations", &o->max_iterations),
+       D("max_step_translation", &o->max_step_translation),
+       D("max_step_rotation", &o->max_step_rotation),
+       D("huber_width", &o->huber_width),
+       D("inlier_distance", &o->inlier_distance), D("sigma_min", &o->sigma_min),
+       D("covariance_scale", &o->covariance_scale)},
+      {}};
+}
+
+Section CorrelativeSection(CorrelativeOptions* o) {
+  return {
+      "correlative",
+      {D("resolution", &o->resolution), I("levels", &o->levels),
+       D("sigma", &o->sigma), D("window_xy", &o->window_xy),
+       D("window_theta", &o->window_theta), D("step_theta", &o->step_theta)},
+      {}};
+}
+
+Section Schema(RunConfig* c) {
+  LaserSlamConfig& s = c->slam;
+  return {
+      "run",
+      {S("log", &c->log), S("relations", &c->relations),
+       S("output_dir", &c->output_dir)},
+      {{"lasers",
+        {B("front", &c->lasers.front_laser), B("rear", &c->lasers.rear_laser),
+         B("robot", &c->lasers.robot_laser)},
+        {}},
+       {"scans",
+        {D("min_range", &s.min_range), D("max_range", &s.max_range),
+         D("voxel_size", &s.voxel_size)},
+        {}},
+       {"keyframes",
+        {D("distance", &s.keyframe_distance),
+         D("rotation", &s.keyframe_rotation)},
+        {}},
+       {"tracking",
+        {I("submap_keyframes", &s.submap_keyframes),
+         D("submap_voxel", &s.submap_voxel),
+         D("normal_radius", &s.normal_radius),
+         D("min_fitness", &s.min_tracking_fitness),
+         D("max_jump", &s.max_tracking_jump),
+         B("always_correlative", &s.always_correlative),
+         D("min_sigma_xy", &s.match_min_sigma_xy),
+         D("min_sigma_theta", &s.match_min_sigma_theta)},
+        {IcpSection(&s.icp), CorrelativeSection(&s.local_correlative)}},
+       {"odometry",
+        {D("alpha1", &s.odometry.alpha1), D("alpha2", &s.odometry.alpha2),
+         D("alpha3", &s.odometry.alpha3), D("alpha4", &s.odometry.alpha4),
+         D("min_sigma_xy", &s.odometry.min_sigma_xy),
+         D("min_sigma_theta", &s.odometry.min_sigma_theta)},
+        {}},
+       {"loop_closure",
+        {B("enabled", &s.loop_closure),
+         D("min_separation", &s.loop_min_separation),
+         D("search_radius", &s.loop_search_radius),
+         D("radius_growth", &s.loop_radius_growth),
+         D("max_radius", &s.loop_max_radius),
+         I("max_candidates", &s.loop_max_candidates),
+         I("submap_half_width", &s.loop_submap_half_width),
+         I("query_keyframes", &s.loop_query_keyframes),
+         D("query_voxel", &s.loop_query_voxel),
+         D("search_voxel", &s.loop_search_voxel),
+         D("min_score", &s.loop_min_score),
+         I("every", &s.loop_every),
+         I("min_inliers", &s.loop_min_inliers),
+         D("min_fitness", &s.loop_min_fitness),
+         D("max_sigma", &s.loop_max_sigma),
+         D("min_inlier_ratio", &s.loop_min_inlier_ratio),
+         I("consistency_keyframes", &s.loop_consistency_keyframes),
+         D("consistency_distance", &s.loop_consistency_distance),
+         D("consistency_angle", &s.loop_consistency_angle),
+         K("kernel", &s.loop_kernel),
+         D("reject_weight", &s.loop_reject_weight)},
+        {CorrelativeSection(&s.loop_correlative)}},
+       {"backend",
+        {I("optimize_every", &s.optimize_every),
+         I("loop_optimize_interval", &s.loop_optimize_interval),
+         I("incremental_iterations", &s.incremental_iterations),
+         I("max_iterations", &s.optimizer.max_iterations)},
+        {}},
+       {"map",
+        {B("enabled", &c->write_map), D("resolution", &c->map.resolution),
+         D("l_occ", &c->map.l_occ), D("l_free", &c->map.l_free),
+         D("l_min", &c->map.l_min), D("l_max", &c->map.l_max),
+         D("max_usable_range", &c->map.max_usable_range),
+         B("clear_max_range", &c->map.clear_max_range)},
+        {}}}};
+}
+
+bool ReadField(const YAML::Node& node, const Field& f, const std::string& where,
+               std::string* error) {
+  switch (f.kind) {
+    case Field::kDouble:
+      return ReadOptional(node, f.key, where, static_cast<double*>(f.value),
+                          error);
+    case Field::kInt:
+      return ReadOptional(node, f.key, where, static_cast<int*>(f.value),
+                          error);
+    case Field::kBool:
+      return ReadOptional(node, f.key, where, static_cast<bool*>(f.value),
+                          error);
+    case Field::kString:
+      return ReadOptional(node, f.key, where,
+                          static_cast<std::string*>(f.value), error);
+    case Field::kKernel: {
+      auto* spec = static_cast<RobustKernelSpec*>(f.value);
+      std::string text = spec->ToString();
+      if (!ReadOptional(node, f.key, where, &text, error)) return false;
+      std::string parse_error;
+      if (!ParseRobustKernel(text, spec, &parse_error)) {
+        *error = where + ": " + f.key + ": " + parse_error;
+        return false;
+      }
+      return true;
+    }
+  }
+  return true;
+}
+
+bool LoadSection(const YAML::Node& node, const Section& section,
+                 const std::string& where, std::string* error) {
+  if (!node.IsMap()) {
+    *error = where + ":" + std::to_string(node.Mark().line + 1) + ": '" +
+             section.name + "' must be a mapping of settings";
+    return false;
+  }
+  for (const auto& entry : node) {
+    const std::string key = entry.first.as<std::string>();
+    bool known = false;
+    std::string list;
+    for (const Field& f : section.fields) {
+      known |= key == f.key;
+      list += (list.empty() ? "" : ", ") + std::string(f.key);
+    }
+    for (const Section& c : section.children) {
+      known |= key == c.name;
+      list += (list.empty() ? "" : ", ") + std::string(c.name);
+    }
+    if (!known) {
+      *error = where + ":" + std::to_string(entry.first.Mark().line + 1) +
+               ": unknown key '" + key + "' in " + section.name +
+               " (known: " + list + ")";
+      return false;
+    }
+  }
+  for (const Field& f : section.fields) {
+    if (!ReadField(node, f, where, error)) return false;
+  }
+  for (const Section& c : section.children) {
+    const YAML::Node child = node[c.name];
+    if (child && !LoadSection(child, c, where, error)) return false;
+  }
+  return true;
+}
+
+void PrintSection(const Section& section, int indent, std::ostream* out) {
+  const std::string pad(indent, ' ');
+  *out << pad << section.name << ":\n";
+  for (const Field& f : section.fields) {
+    *out << pad << "  " << f.key << ": ";
+    switch (f.kind) {
+      case Field::kDouble:
+        *out << *static_cast<double*>(f.value);
+        break;
+      case Field::kInt:
+        *out << *static_cast<int*>(f.value);
+        break;
+      case Field::kBool:
+        *out << (*static_cast<bool*>(f.value) ? "true" : "false");
+        break;
+      case Field::kString:
+        *out << "\"" << *static_cast<std::string*>(f.value) << "\"";
+        break;
+      case Field::kKernel:
+        *out << static_cast<RobustKernelSpec*>(f.value)->ToString();
+        break;
+    }
+    *out << "\n";
+  }
+  for (const Section& c : section.children) PrintSection(c, indent + 2, out);
+}
+
+}  // namespace
+
+bool LoadRunConfig(const std::string& path, RunConfig* config,
+                   std::string* error) {
+  YAML::Node root;
+  if (!LoadYamlFile(path, &root, error)) return false;
+  if (!root || root.IsNull()) return true;
+  if (!CheckTopLevelSections(root, path, error)) return false;
+  const YAML::Node node = root["run"];
+  if (!node) return true;
+  if (!LoadSection(node, Schema(config), path, error)) return false;
+  if (!ValidateRunConfig(*config, error)) {
+    *error = path + ": run." + *error;
+    return false;
+  }
+  return true;
+}
+
+bool ValidateRunConfig(const RunConfig& config, std::string* error) {
+  const LaserSlamConfig& s = config.slam;
+  auto fail = [&](const std::string& message) {
+    *error = message;
+    return false;
+  };
+  if (!(s.min_range >= 0) || !(s.max_range > s.min_range)) {
+    return fail("scans: need 0 <= min_range < max_range");
+  }
+  if (!(s.voxel_size > 0) || !(s.submap_voxel > 0) || !(s.normal_radius > 0)) {
+    return fail("voxel sizes and normal_radius must be > 0");
+  }
+  if (!(s.keyframe_distance > 0) || !(s.keyframe_rotation > 0)) {
+    return fail("keyframes: distance and rotation must be > 0");
+  }
+  if (s.submap_keyframes < 1)
+    return fail("tracking.submap_keyframes must be >= 1");
+  for (const IcpOptions* o : {&s.icp}) {
+    if (!(o->max_correspondence_distance > 0) || o->max_iterations < 1 ||
+        !(o->huber_width > 0) || !(o->inlier_distance > 0) ||
+        !(o->sigma_min > 0) || !(o->covariance_scale > 0)) {
+      return fail(
+          "tracking.icp: distances, widths and scales must be > 0, "
+          "max_iterations >= 1");
+    }
+  }
+  for (const CorrelativeOptions* o :
+       {&s.local_correlative, &s.loop_correlative}) {
+    if (!(o->resolution > 0) || o->levels < 0 || o->levels > 12 ||
+        !(o->sigma > 0) || !(o->window_xy >= 0) || !(o->window_theta >= 0) ||
+        !(o->step_theta > 0)) {
+      return fail(
+          "correlative: resolution, sigma, step_theta must be > 0, "
+          "windows >= 0, levels in [0, 12]");
+    }
+    if ((2.0 * o->window_xy / o->resolution + 1) *
+            (2.0 * o->window_theta / o->step_theta + 1) >
+        5e7) {
+      return fail("correlative: search window too large for its resolution");
+    }
+  }
+  const OdometryNoise& n = s.odometry;
+  if (!(n.alpha1 >= 0) || !(n.alpha2 >= 0) || !(n.alpha3 >= 0) ||
+      !(n.alpha4 >= 0) || !(n.min_sigma_xy > 0) || !(n.min_sigma_theta > 0)) {
+    return fail("odometry: alphas must be >= 0, minimum sigmas > 0");
+  }
+  if (s.loop_max_candidates < 0 || s.loop_submap_half_width < 0 ||
+      !(s.loop_search_radius >= 0) || !(s.loop_max_radius >= 0) ||
+      !(s.loop_radius_growth >= 0) || !(s.loop_min_separation >= 0)) {
+    return fail("loop_closure: counts, radii and separation must be >= 0");
+  }
+  if (s.optimize_every < 0 || s.loop_optimize_interval < 0 ||
+      s.incremental_iterations < 1 || s.optimizer.max_iterations < 1) {
+    return fail("backend: intervals must be >= 0, iterations >= 1");
+  }
+  std::string map_error;
+  if (!CheckOccupancyGridConfig(config.map, &map_error)) {
+    return fail("map: " + map_error);
+  }
+  if (!config.lasers.front_laser && !config.lasers.rear_laser &&
+      !config.lasers.robot_laser) {
+    return fail("lasers: select at least one laser");
+  }
+  return true;
+}
+
+std::string RunConfigToYaml(const RunConfig& config) {
+  RunConfig copy = config;
+  std::ostringstream out;
+  out.precision(10);
+  PrintSection(Schema(&copy), 0, &out);
+  return out.str();
+}
+
+}  // namespace slam

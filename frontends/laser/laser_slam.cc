@@ -1,0 +1,378 @@
+#include "frontends/laser/laser_slam.h"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "factors/pose_factors.h"
+
+namespace slam {
+namespace {
+
+double Seconds(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+      .count();
+}
+
+bool SmallMotion(const Pose2& a, const Pose2& b, double max_distance,
+                 double max_angle) {
+  return (a.t - b.t).norm() <= max_distance &&
+         std::abs(NormalizeAngle(a.theta - b.theta)) <= max_angle;
+}
+
+}  // namespace
+
+bool LoopMatchPasses(const MatchResult& match, const LaserSlamConfig& config) {
+  // Degenerate geometry (a plain corridor) leaves a direction unconstrained:
+  // the match may have slid along it.
+  const double max_variance =
+      match.success ? Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(
+                          match.covariance.topLeftCorner<2, 2>())
+                          .eigenvalues()[1]
+                    : 0.0;
+  return match.success && match.score >= config.loop_min_score &&
+         (config.loop_max_sigma <= 0 ||
+          max_variance <= config.loop_max_sigma * config.loop_max_sigma) &&
+         match.num_inliers >= config.loop_min_inliers &&
+         match.fitness >= config.loop_min_fitness &&
+         match.num_inliers >=
+             config.loop_min_inlier_ratio * match.num_correspondences;
+}
+
+LaserSlam::LaserSlam(const LaserSlamConfig& config) : config_(config) {}
+
+Eigen::Matrix3d LaserSlam::MatchCovariance(const MatchResult& match) const {
+  return MatchCovariance(match.covariance);
+}
+
+Eigen::Matrix3d LaserSlam::MatchCovariance(const LoopHypothesis& h) const {
+  return MatchCovariance(h.covariance);
+}
+
+Eigen::Matrix3d LaserSlam::MatchCovariance(const Eigen::Matrix3d& c) const {
+  Eigen::Matrix3d out = c;
+  out.diagonal() += Eigen::Vector3d(
+      config_.match_min_sigma_xy * config_.match_min_sigma_xy,
+      config_.match_min_sigma_xy * config_.match_min_sigma_xy,
+      config_.match_min_sigma_theta * config_.match_min_sigma_theta);
+  return out;
+}
+
+Pose2 LaserSlam::KeyframePose(size_t k) const {
+  return NodePose2(*graph_.FindNode(Pose2Key(static_cast<int64_t>(k))));
+}
+
+void LaserSlam::AddBetween(int i, int j, const Pose2& z,
+                           const Eigen::Matrix3d& cov,
+                           std::shared_ptr<ceres::LossFunction> loss,
+                           bool loop) {
+  Factor factor;
+  std::string error;
+  const Eigen::Matrix3d information = cov.inverse();
+  if (!MakeBetweenSE2(Pose2Key(i), Pose2Key(j), z,
+                      0.5 * (information + information.transpose()), &factor,
+                      &error)) {
+    return;  // Not positive definite: the measurement carries no weight.
+  }
+  factor.loss = std::move(loss);
+  const FactorId id = graph_.AddFactor(std::move(factor));
+  if (loop && id >= 0) loop_factors_.push_back(id);
+}
+
+void LaserSlam::AddScan(const LaserScan& scan) {
+  const auto start = std::chrono::steady_clock::now();
+  ++stats_.scans;
+  Points2 points = RangesToPoints(
+      scan.ranges, scan.angle_min, scan.angle_increment, config_.min_range,
+      std::min(config_.max_range,
+               scan.max_range > 0 ? scan.max_range : config_.max_range));
+  points = VoxelFilter(TransformPoints(scan.laser_offset, points),
+                       config_.voxel_size);
+
+  if (keyframes_.empty()) {
+    tracked_ = scan.odom;
+    last_odom_ = scan.odom;
+    AddKeyframe(scan, points, nullptr);
+    scans_.push_back({scan.stamp, 0, Pose2()});
+    stats_.matching_seconds += Seconds(start);
+    return;
+  }
+
+  path_ += (scan.odom.t - last_odom_.t).norm();
+  const Pose2 predicted = tracked_ * (last_odom_.Inverse() * scan.odom);
+  last_odom_ = scan.odom;
+  MatchResult match;
+  bool matched = false;
+  if (points.size() >= 10 && !local_submap_.empty()) {
+    const double jump = config_.max_tracking_jump;
+    auto good = [&](const MatchResult& m, double scale) {
+      return m.success && m.fitness >= config_.min_tracking_fitness &&
+             SmallMotion(m.pose, predicted, scale * jump, scale * jump);
+    };
+    if (config_.always_correlative) {
+      match = local_submap_.Match(points, predicted, config_.local_correlative,
+                                  config_.icp);
+      matched = good(match, 2.0);
+    } else {
+      match = local_submap_.Icp(points, predicted, config_.icp);
+      matched = good(match, 1.0);
+      if (!matched) {
+        ++stats_.tracking_correlative;
+        const MatchResult second = local_submap_.Match(
+            points, predicted, config_.local_correlative, config_.icp);
+        if (good(second, 2.0) &&
+            (!matched || second.num_inliers > match.num_inliers)) {
+          match = second;
+          matched = true;
+        }
+      }
+    }
+  }
+  if (!matched) ++stats_.tracking_failures;
+  tracked_ = matched ? match.pose : predicted;
+  stats_.matching_seconds += Seconds(start);
+
+  const int last = static_cast<int>(keyframes_.size()) - 1;
+  const Pose2 last_pose = KeyframePose(last);
+  if (!SmallMotion(tracked_, last_pose, config_.keyframe_distance,
+                   config_.keyframe_rotation)) {
+    AddKeyframe(scan, points, matched ? &match : nullptr);
+    const int k = static_cast<int>(keyframes_.size()) - 1;
+    scans_.push_back({scan.stamp, k, Pose2()});
+    if (config_.loop_closure) {
+      const auto loop_start = std::chrono::steady_clock::now();
+      if (DetectLoopClosures(k)) pending_loop_ = true;
+      stats_.loop_seconds += Seconds(loop_start);
+    }
+    const bool loop_due = pending_loop_ && k - last_optimized_keyframe_ >=
+                                               config_.loop_optimize_interval;
+    const bool periodic =
+        config_.optimize_every > 0 &&
+        k - last_optimized_keyframe_ >= config_.optimize_every;
+    if (loop_due || periodic) {
+      OptimizeGraph(config_.incremental_iterations);
+      pending_loop_ = false;
+      last_optimized_keyframe_ = k;
+    }
+  } else {
+    scans_.push_back({scan.stamp, last, last_pose.Inverse() * tracked_});
+  }
+}
+
+void LaserSlam::AddKeyframe(const LaserScan& scan, const Points2& points,
+                            const MatchResult* match) {
+  const int k = static_cast<int>(keyframes_.size());
+  Node* node = graph_.AddNode(Pose2Key(k), Pose2Value(tracked_));
+  node->stamp = scan.stamp;
+  node->has_stamp = true;
+  if (k == 0) graph_.SetFixed(Pose2Key(0), true);
+  keyframes_.push_back({scan.stamp, points, scan.odom, path_});
+  ++stats_.keyframes;
+  if (k > 0) {
+    const Pose2 prev = KeyframePose(k - 1);
+    if (match != nullptr) {
+      AddBetween(k - 1, k, prev.Inverse() * tracked_, MatchCovariance(*match),
+                 nullptr, false);
+    }
+    const OdometryDelta odom =
+        OdometryMotion(keyframes_[k - 1].odom, scan.odom, config_.odometry);
+    AddBetween(k - 1, k, odom.delta, odom.covariance, nullptr, false);
+  }
+  RebuildLocalSubmap();
+}
+
+void LaserSlam::RebuildLocalSubmap() {
+  const int n = static_cast<int>(keyframes_.size());
+  Points2 world;
+  for (int k = std::max(0, n - config_.submap_keyframes); k < n; ++k) {
+    const Points2 p = TransformPoints(KeyframePose(k), keyframes_[k].points);
+    world.insert(world.end(), p.begin(), p.end());
+  }
+  local_submap_.Build(VoxelFilter(world, config_.submap_voxel),
+                      config_.icp.max_correspondence_distance,
+                      config_.normal_radius);
+}
+
+bool LaserSlam::DetectLoopClosures(int k) {
+  const Keyframe& current = keyframes_[k];
+  if (current.points.size() < 20) return false;
+  if (config_.loop_every > 1 && k % config_.loop_every != 0) return false;
+  const Pose2 pose_k = KeyframePose(k);
+  struct Candidate {
+    double distance;
+    int index;
+    double radius;
+  };
+  std::vector<Candidate> candidates;
+  for (int j = 0; j < k - config_.submap_keyframes; ++j) {
+    const double separation = current.path - keyframes_[j].path;
+    if (separation < config_.loop_min_separation) continue;
+    // Dead-reckoning drift grows with the path since j, or since the last
+    // accepted closure (which re-anchored the recent trajectory), whichever
+    // is shorter.
+    const double drift_path =
+        std::min(separation, current.path - last_closure_path_ +
+                                 config_.loop_min_separation);
+    const double radius = std::min(
+        config_.loop_max_radius,
+        config_.loop_search_radius + config_.loop_radius_growth * drift_path);
+    const double d = (KeyframePose(j).t - pose_k.t).norm();
+    if (d <= radius) candidates.push_back({d, j, radius});
+  }
+  std::sort(candidates.begin(), candidates.end(),
+            [](const Candidate& a, const Candidate& b) {
+              return a.distance < b.distance;
+            });
+  std::vector<Candidate> chosen;
+  for (const Candidate& c : candidates) {
+    if (static_cast<int>(chosen.size()) >= config_.loop_max_candidates) break;
+    bool near_chosen = false;
+    for (const Candidate& o : chosen) {
+      near_chosen |=
+          std::abs(o.index - c.index) <= 2 * config_.loop_submap_half_width;
+    }
+    if (!near_chosen) chosen.push_back(c);
+  }
+  if (chosen.empty()) return false;
+  // The query: the last loop_query_keyframes keyframes in k's frame, so that
+  // both sides of the match are local maps of several metres.
+  Points2 query;
+  const Pose2 k_inv = pose_k.Inverse();
+  for (int m = std::max(0, k - config_.loop_query_keyframes + 1); m <= k; ++m) {
+    const Points2 p =
+        TransformPoints(k_inv * KeyframePose(m), keyframes_[m].points);
+    query.insert(query.end(), p.begin(), p.end());
+  }
+  query = VoxelFilter(query, config_.loop_query_voxel);
+  const Points2 search_query =
+      config_.loop_search_voxel > config_.loop_query_voxel
+          ? VoxelFilter(query, config_.loop_search_voxel)
+          : query;
+  bool accepted = false;
+  for (const Candidate& candidate : chosen) {
+    const int j = candidate.index;
+    // The search window covers the uncertainty the candidate was found with.
+    CorrelativeOptions search = config_.loop_correlative;
+    search.window_xy = std::max(search.window_xy, candidate.radius);
+    const Pose2 pose_j = KeyframePose(j);
+    const Pose2 j_inv = pose_j.Inverse();
+    Points2 submap;
+    const int lo = std::max(0, j - config_.loop_submap_half_width);
+    const int hi = std::min(k - config_.submap_keyframes,
+                            j + config_.loop_submap_half_width);
+    for (int m = lo; m <= hi; ++m) {
+      const Points2 p =
+          TransformPoints(j_inv * KeyframePose(m), keyframes_[m].points);
+      submap.insert(submap.end(), p.begin(), p.end());
+    }
+    MatchTarget target;
+    target.Build(VoxelFilter(submap, config_.submap_voxel),
+                 config_.icp.max_correspondence_distance,
+                 config_.normal_radius);
+    // The search on a sparser copy of the query (its cost is linear in the
+    // points), ICP on the whole query.
+    double score = 0.0;
+    const Pose2 coarse =
+        target.Correlative(search_query, j_inv * pose_k, search, &score);
+    MatchResult match = target.Icp(query, coarse, config_.icp);
+    match.score = score;
+    ++stats_.closures_proposed;
+    if (!LoopMatchPasses(match, config_)) {
+      continue;
+    }
+    // Geometric consistency: the correction this closure implies (the
+    // transform taking k's estimate to where the match puts it) must agree
+    // with one of another recent keyframe's passing matches.
+    LoopHypothesis h{k,
+                     j,
+                     match.pose,
+                     match.covariance,
+                     pose_j * match.pose * pose_k.Inverse(),
+                     false};
+    bool consistent = false;
+    for (LoopHypothesis& other : hypotheses_) {
+      if (k - other.k > config_.loop_consistency_keyframes || other.k == k) {
+        continue;
+      }
+      const Pose2 diff = other.correction.Inverse() * h.correction;
+      if (diff.t.norm() > config_.loop_consistency_distance ||
+          std::abs(diff.theta) > config_.loop_consistency_angle) {
+        continue;
+      }
+      consistent = true;
+      if (!other.added) {
+        AddBetween(other.j, other.k, other.z, MatchCovariance(other),
+                   MakeLoss(config_.loop_kernel), true);
+        other.added = true;
+        ++stats_.closures_accepted;
+      }
+    }
+    if (consistent) {
+      AddBetween(j, k, match.pose, MatchCovariance(match),
+                 MakeLoss(config_.loop_kernel), true);
+      h.added = true;
+      ++stats_.closures_accepted;
+      accepted = true;
+      last_closure_path_ = current.path;
+    }
+    hypotheses_.push_back(h);
+  }
+  hypotheses_.erase(std::remove_if(hypotheses_.begin(), hypotheses_.end(),
+                                   [&](const LoopHypothesis& o) {
+                                     return k - o.k >
+                                            config_.loop_consistency_keyframes;
+                                   }),
+                    hypotheses_.end());
+  return accepted;
+}
+
+void LaserSlam::OptimizeGraph(int max_iterations) {
+  if (graph_.NumFactors() == 0) return;
+  const auto start = std::chrono::steady_clock::now();
+  const int last = static_cast<int>(keyframes_.size()) - 1;
+  const Pose2 relative = KeyframePose(last).Inverse() * tracked_;
+  OptimizerOptions options = config_.optimizer;
+  options.verbose = false;
+  if (max_iterations > 0) options.max_iterations = max_iterations;
+  Optimize(&graph_, options, nullptr);
+  ++stats_.optimizations;
+  tracked_ = KeyframePose(last) * relative;
+  RebuildLocalSubmap();
+  stats_.optimization_seconds += Seconds(start);
+}
+
+void LaserSlam::Finish() {
+  if (keyframes_.empty()) return;
+  OptimizeGraph(0);
+  // Closures the robust kernel has switched off.
+  std::vector<FactorId> rejected;
+  for (FactorId id : loop_factors_) {
+    const Factor* factor = graph_.FindFactor(id);
+    double chi2 = 0.0;
+    if (factor == nullptr || !graph_.FactorChi2(*factor, &chi2)) continue;
+    double rho[3] = {chi2, 1.0, 0.0};
+    if (factor->loss) factor->loss->Evaluate(chi2, rho);
+    if (rho[1] < config_.loop_reject_weight) rejected.push_back(id);
+  }
+  stats_.closures_rejected = static_cast<int>(rejected.size());
+  if (!rejected.empty()) {
+    for (FactorId id : rejected) graph_.RemoveFactor(id);
+    loop_factors_.erase(
+        std::remove_if(loop_factors_.begin(), loop_factors_.end(),
+                       [&](FactorId id) { return !graph_.FindFactor(id); }),
+        loop_factors_.end());
+    OptimizeGraph(0);
+  }
+}
+
+Trajectory LaserSlam::ScanTrajectory() const {
+  Trajectory out;
+  out.reserve(scans_.size());
+  for (const ScanRecord& s : scans_) {
+    out.push_back({s.stamp, LiftPose2(KeyframePose(s.keyframe) * s.relative)});
+  }
+  return out;
+}
+
+}  // namespace slam

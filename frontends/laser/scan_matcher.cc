@@ -1,0 +1,475 @@
+#include "frontends/laser/scan_matcher.h"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <unordered_map>
+
+namespace slam {
+namespace {
+
+int64_t CellKey(int ix, int iy) {
+  return (static_cast<int64_t>(ix) << 32) ^ static_cast<uint32_t>(iy);
+}
+
+// d/dtheta of R(theta) p, for R = I: (-p.y, p.x).
+Eigen::Vector2d Perp(const Eigen::Vector2d& p) {
+  return Eigen::Vector2d(-p.y(), p.x());
+}
+
+}  // namespace
+
+Points2 TransformPoints(const Pose2& pose, const Points2& points) {
+  const Eigen::Matrix2d r = RotationMatrix2D(pose.theta);
+  Points2 out;
+  out.reserve(points.size());
+  for (const Eigen::Vector2d& p : points) out.push_back(r * p + pose.t);
+  return out;
+}
+
+Points2 RangesToPoints(const std::vector<float>& ranges, double angle_min,
+                       double angle_increment, double min_range,
+                       double max_range) {
+  Points2 points;
+  points.reserve(ranges.size());
+  for (size_t i = 0; i < ranges.size(); ++i) {
+    const double r = ranges[i];
+    if (!std::isfinite(r) || r < min_range || r >= max_range) continue;
+    const double a = angle_min + static_cast<double>(i) * angle_increment;
+    points.emplace_back(r * std::cos(a), r * std::sin(a));
+  }
+  return points;
+}
+
+Points2 VoxelFilter(const Points2& points, double cell) {
+  std::unordered_map<int64_t, int> index;
+  index.reserve(points.size() * 2);
+  Points2 sums;
+  std::vector<int> counts;
+  for (const Eigen::Vector2d& p : points) {
+    const int64_t key = CellKey(static_cast<int>(std::floor(p.x() / cell)),
+                                static_cast<int>(std::floor(p.y() / cell)));
+    auto [it, inserted] = index.emplace(key, static_cast<int>(sums.size()));
+    if (inserted) {
+      sums.push_back(p);
+      counts.push_back(1);
+    } else {
+      sums[it->second] += p;
+      ++counts[it->second];
+    }
+  }
+  for (size_t i = 0; i < sums.size(); ++i) sums[i] /= counts[i];
+  return sums;
+}
+
+void MatchTarget::Build(Points2 points, double cell_size,
+                        double normal_radius) {
+  points_ = std::move(points);
+  cell_size_ = cell_size;
+  likelihood_ = LikelihoodGrids();
+  normals_.assign(points_.size(), Eigen::Vector2d::Zero());
+  has_normal_.assign(points_.size(), 0);
+  cell_start_.clear();
+  cell_points_.clear();
+  grid_width_ = grid_height_ = 0;
+  if (points_.empty()) return;
+  Eigen::Vector2d lo = points_[0], hi = points_[0];
+  for (const Eigen::Vector2d& p : points_) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  origin_ = lo;
+  grid_width_ = static_cast<int>((hi.x() - lo.x()) / cell_size_) + 1;
+  grid_height_ = static_cast<int>((hi.y() - lo.y()) / cell_size_) + 1;
+  const int num_cells = grid_width_ * grid_height_;
+  std::vector<int> cell_of(points_.size());
+  cell_start_.assign(num_cells + 1, 0);
+  for (size_t i = 0; i < points_.size(); ++i) {
+    const int ix =
+        std::min(grid_width_ - 1,
+                 static_cast<int>((points_[i].x() - lo.x()) / cell_size_));
+    const int iy =
+        std::min(grid_height_ - 1,
+                 static_cast<int>((points_[i].y() - lo.y()) / cell_size_));
+    cell_of[i] = iy * grid_width_ + ix;
+    ++cell_start_[cell_of[i] + 1];
+  }
+  for (int c = 0; c < num_cells; ++c) cell_start_[c + 1] += cell_start_[c];
+  cell_points_.resize(points_.size());
+  std::vector<int> fill(cell_start_.begin(), cell_start_.end() - 1);
+  for (size_t i = 0; i < points_.size(); ++i) {
+    cell_points_[fill[cell_of[i]]++] = static_cast<int>(i);
+  }
+
+  // Normals: principal axes of the neighbourhood.
+  const double r2 = normal_radius * normal_radius;
+  const int ring = static_cast<int>(std::ceil(normal_radius / cell_size_));
+  for (size_t i = 0; i < points_.size(); ++i) {
+    const Eigen::Vector2d& p = points_[i];
+    const int cx = cell_of[i] % grid_width_, cy = cell_of[i] / grid_width_;
+    Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+    Eigen::Matrix2d outer = Eigen::Matrix2d::Zero();
+    int n = 0;
+    for (int y = std::max(0, cy - ring);
+         y <= std::min(grid_height_ - 1, cy + ring); ++y) {
+      for (int x = std::max(0, cx - ring);
+           x <= std::min(grid_width_ - 1, cx + ring); ++x) {
+        const int c = y * grid_width_ + x;
+        for (int k = cell_start_[c]; k < cell_start_[c + 1]; ++k) {
+          const Eigen::Vector2d& q = points_[cell_points_[k]];
+          if ((q - p).squaredNorm() > r2) continue;
+          sum += q;
+          outer += q * q.transpose();
+          ++n;
+        }
+      }
+    }
+    if (n < 3) {
+      // Sparse neighbourhood (far from the sensor): the line through the
+      // nearest other point within a wider radius, as in PL-ICP.
+      int nearest = -1;
+      double best = 16.0 * r2;
+      const int wide = 4 * ring;
+      for (int y = std::max(0, cy - wide);
+           y <= std::min(grid_height_ - 1, cy + wide); ++y) {
+        for (int x = std::max(0, cx - wide);
+             x <= std::min(grid_width_ - 1, cx + wide); ++x) {
+          const int c = y * grid_width_ + x;
+          for (int k = cell_start_[c]; k < cell_start_[c + 1]; ++k) {
+            const int j = cell_points_[k];
+            const double d2 = (points_[j] - p).squaredNorm();
+            if (j != static_cast<int>(i) && d2 < best && d2 > 1e-12) {
+              best = d2;
+              nearest = j;
+            }
+          }
+        }
+      }
+      if (nearest < 0) continue;
+      const Eigen::Vector2d dir = (points_[nearest] - p).normalized();
+      normals_[i] = Eigen::Vector2d(-dir.y(), dir.x());
+      has_normal_[i] = 1;
+      continue;
+    }
+    const Eigen::Vector2d mean = sum / n;
+    const Eigen::Matrix2d cov = outer / n - mean * mean.transpose();
+    const double a = cov(0, 0), b = cov(0, 1), c = cov(1, 1);
+    const double half_diff = 0.5 * (a - c);
+    const double root = std::sqrt(half_diff * half_diff + b * b);
+    const double l_max = 0.5 * (a + c) + root, l_min = 0.5 * (a + c) - root;
+    if (!(l_max > 0) || l_min > 0.1 * l_max) continue;    // No dominant line.
+    const double phi = 0.5 * std::atan2(2.0 * b, a - c);  // Line direction.
+    normals_[i] = Eigen::Vector2d(-std::sin(phi), std::cos(phi));
+    has_normal_[i] = 1;
+  }
+}
+
+int MatchTarget::Nearest(const Eigen::Vector2d& query,
+                         double max_distance) const {
+  if (points_.empty()) return -1;
+  const int ring = static_cast<int>(std::ceil(max_distance / cell_size_));
+  const double fx = (query.x() - origin_.x()) / cell_size_;
+  const double fy = (query.y() - origin_.y()) / cell_size_;
+  if (fx < -ring - 1 || fy < -ring - 1 || fx > grid_width_ + ring ||
+      fy > grid_height_ + ring) {
+    return -1;
+  }
+  const int cx = static_cast<int>(std::floor(fx));
+  const int cy = static_cast<int>(std::floor(fy));
+  double best = max_distance * max_distance;
+  int best_index = -1;
+  for (int y = std::max(0, cy - ring);
+       y <= std::min(grid_height_ - 1, cy + ring); ++y) {
+    for (int x = std::max(0, cx - ring);
+         x <= std::min(grid_width_ - 1, cx + ring); ++x) {
+      const int c = y * grid_width_ + x;
+      for (int k = cell_start_[c]; k < cell_start_[c + 1]; ++k) {
+        const double d2 = (points_[cell_points_[k]] - query).squaredNorm();
+        if (d2 < best) {
+          best = d2;
+          best_index = cell_points_[k];
+        }
+      }
+    }
+  }
+  return best_index;
+}
+
+MatchResult MatchTarget::Icp(const Points2& source, const Pose2& initial,
+                             const IcpOptions& options) const {
+  MatchResult result;
+  result.pose = initial;
+  result.num_points = static_cast<int>(source.size());
+  if (points_.empty() || source.size() < 3) return result;
+  Pose2 x = initial;
+  Eigen::Matrix3d h;
+  double weighted_r2 = 0.0;
+  int n = 0;
+  // One association + linearization at x; fills h, g and the statistics.
+  auto linearize = [&](Eigen::Vector3d* g, bool stats) {
+    h.setZero();
+    g->setZero();
+    weighted_r2 = 0.0;
+    n = 0;
+    double inlier_r2 = 0.0;
+    int inliers = 0;
+    const Eigen::Matrix2d r = RotationMatrix2D(x.theta);
+    for (const Eigen::Vector2d& p : source) {
+      const Eigen::Vector2d q = r * p + x.t;
+      const int k = Nearest(q, options.max_correspondence_distance);
+      if (k < 0) continue;
+      if (!has_normal_[k]) continue;
+      const Eigen::Vector2d& normal = normals_[k];
+      const double res = normal.dot(q - points_[k]);
+      // Right perturbation: q(delta) = R Exp(dtheta) p + t + R dt.
+      const Eigen::Vector2d nr = r.transpose() * normal;
+      const Eigen::Vector3d j(nr.x(), nr.y(), nr.dot(Perp(p)));
+      const double abs_res = std::abs(res);
+      const double w =
+          abs_res <= options.huber_width ? 1.0 : options.huber_width / abs_res;
+      h += w * j * j.transpose();
+      *g += w * j * res;
+      weighted_r2 += w * res * res;
+      ++n;
+      if (stats && abs_res < options.inlier_distance) {
+        ++inliers;
+        inlier_r2 += res * res;
+      }
+    }
+    if (stats) {
+      result.num_correspondences = n;
+      result.num_inliers = inliers;
+      result.rmse = inliers > 0 ? std::sqrt(inlier_r2 / inliers) : 0.0;
+    }
+  };
+  Eigen::Vector3d g;
+  int iteration = 0;
+  for (; iteration < options.max_iterations; ++iteration) {
+    linearize(&g, false);
+    if (n < 3) break;
+    const double damping = 1e-9 * (h.trace() + 1e-12);
+    Eigen::Vector3d delta =
+        -(h + damping * Eigen::Matrix3d::Identity()).ldlt().solve(g);
+    if (!delta.allFinite()) break;
+    // A step along a direction the points barely constrain (a corridor)
+    // can be huge; the correspondences are only valid nearby.
+    const double step = delta.head<2>().norm();
+    const double scale = std::min(
+        {1.0, options.max_step_translation / std::max(step, 1e-12),
+         options.max_step_rotation / std::max(std::abs(delta[2]), 1e-12)});
+    delta *= scale;
+    x.t += RotationMatrix2D(x.theta) * delta.head<2>();
+    x.theta = NormalizeAngle(x.theta + delta[2]);
+    if (delta.head<2>().norm() < options.translation_tolerance &&
+        std::abs(delta[2]) < options.rotation_tolerance) {
+      ++iteration;
+      break;
+    }
+  }
+  result.iterations = iteration;
+  result.pose = x;
+  linearize(&g, true);
+  result.fitness =
+      result.num_points > 0
+          ? static_cast<double>(result.num_inliers) / result.num_points
+          : 0.0;
+  if (n < 10) return result;
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(h);
+  if (!(eig.eigenvalues()[0] > 1e-9 * eig.eigenvalues()[2])) return result;
+  const double sigma2 = std::max(options.sigma_min * options.sigma_min,
+                                 weighted_r2 / std::max(1, n - 3));
+  result.covariance = options.covariance_scale * sigma2 * h.inverse();
+  result.covariance = 0.5 * (result.covariance + result.covariance.transpose());
+  result.success = true;
+  return result;
+}
+
+void MatchTarget::BuildLikelihood(const CorrelativeOptions& options,
+                                  const Eigen::Vector2d& want_lo,
+                                  const Eigen::Vector2d& want_hi) const {
+  LikelihoodGrids& l = likelihood_;
+  const double res = options.resolution;
+  const int kernel = static_cast<int>(std::ceil(3.0 * options.sigma / res));
+  const double reach = (kernel + 1) * res;
+  Eigen::Vector2d target_lo = points_[0], target_hi = points_[0];
+  for (const Eigen::Vector2d& p : points_) {
+    target_lo = target_lo.cwiseMin(p);
+    target_hi = target_hi.cwiseMax(p);
+  }
+  target_lo.array() -= reach;
+  target_hi.array() += reach;
+  // Only the part of the request where the likelihood can be non-zero.
+  const Eigen::Vector2d need_lo = want_lo.cwiseMax(target_lo);
+  const Eigen::Vector2d need_hi = want_hi.cwiseMin(target_hi);
+  if (l.resolution == options.resolution && l.sigma == options.sigma &&
+      l.levels == std::max(0, options.levels) && !l.pyramid.empty() &&
+      (need_lo.array() >= l.valid_lo.array()).all() &&
+      (need_hi.array() <= l.valid_hi.array()).all()) {
+    return;
+  }
+  l.resolution = options.resolution;
+  l.sigma = options.sigma;
+  l.levels = std::max(0, options.levels);
+  // Some slack so that nearby queries (tracking) reuse the grids.
+  l.valid_lo = (want_lo.array() - 5.0).matrix().cwiseMax(target_lo);
+  l.valid_hi = (want_hi.array() + 5.0).matrix().cwiseMin(target_hi);
+  l.valid_hi = l.valid_hi.cwiseMax(l.valid_lo);
+  l.origin = l.valid_lo;
+  l.width = static_cast<int>((l.valid_hi.x() - l.origin.x()) / res) + 2;
+  l.height = static_cast<int>((l.valid_hi.y() - l.origin.y()) / res) + 2;
+  l.pyramid.assign(
+      1, std::vector<float>(static_cast<size_t>(l.width) * l.height, 0.0f));
+  std::vector<float>& fine = l.pyramid[0];
+  const double inv_two_sigma2 = 1.0 / (2.0 * options.sigma * options.sigma);
+  for (const Eigen::Vector2d& p : points_) {
+    if ((p.array() < l.valid_lo.array() - reach).any() ||
+        (p.array() > l.valid_hi.array() + reach).any()) {
+      continue;
+    }
+    const int cx = static_cast<int>(std::floor((p.x() - l.origin.x()) / res));
+    const int cy = static_cast<int>(std::floor((p.y() - l.origin.y()) / res));
+    for (int y = std::max(0, cy - kernel);
+         y <= std::min(l.height - 1, cy + kernel); ++y) {
+      for (int x = std::max(0, cx - kernel);
+           x <= std::min(l.width - 1, cx + kernel); ++x) {
+        const Eigen::Vector2d center =
+            l.origin + res * Eigen::Vector2d(x + 0.5, y + 0.5);
+        const float v = static_cast<float>(
+            std::exp(-(center - p).squaredNorm() * inv_two_sigma2));
+        float& cell = fine[static_cast<size_t>(y) * l.width + x];
+        cell = std::max(cell, v);
+      }
+    }
+  }
+  // Level l from level l-1: the max of four blocks of side 2^(l-1).
+  for (int level = 1; level <= l.levels; ++level) {
+    const int step = 1 << (level - 1);
+    const std::vector<float>& below = l.pyramid[level - 1];
+    std::vector<float> up(below.size(), 0.0f);
+    for (int y = 0; y < l.height; ++y) {
+      for (int x = 0; x < l.width; ++x) {
+        const size_t i = static_cast<size_t>(y) * l.width + x;
+        float m = below[i];
+        if (x + step < l.width) m = std::max(m, below[i + step]);
+        if (y + step < l.height) {
+          m = std::max(m, below[i + static_cast<size_t>(step) * l.width]);
+          if (x + step < l.width) {
+            m = std::max(m,
+                         below[i + static_cast<size_t>(step) * l.width + step]);
+          }
+        }
+        up[i] = m;
+      }
+    }
+    l.pyramid.push_back(std::move(up));
+  }
+}
+
+Pose2 MatchTarget::Correlative(const Points2& source, const Pose2& initial,
+                               const CorrelativeOptions& options,
+                               double* score) const {
+  *score = 0.0;
+  if (points_.empty() || source.empty()) return initial;
+  double source_reach = 0.0;
+  for (const Eigen::Vector2d& p : source) {
+    source_reach = std::max(source_reach, p.norm());
+  }
+  source_reach += options.window_xy + 2.0 * options.resolution;
+  BuildLikelihood(options, initial.t.array() - source_reach,
+                  initial.t.array() + source_reach);
+  const LikelihoodGrids& l = likelihood_;
+  const double res = l.resolution;
+  const int nxy = static_cast<int>(std::ceil(options.window_xy / res));
+  const int ntheta = options.step_theta > 0
+                         ? static_cast<int>(std::ceil(options.window_theta /
+                                                      options.step_theta))
+                         : 0;
+  const int num_angles = 2 * ntheta + 1;
+  const size_t n = source.size();
+  // Cell indices of the rotated (untranslated-offset) points per angle.
+  std::vector<int> cx(num_angles * n), cy(num_angles * n);
+  for (int a = 0; a < num_angles; ++a) {
+    const double theta = initial.theta + (a - ntheta) * options.step_theta;
+    const Eigen::Matrix2d r = RotationMatrix2D(theta);
+    for (size_t i = 0; i < n; ++i) {
+      const Eigen::Vector2d q = r * source[i] + initial.t - l.origin;
+      cx[a * n + i] = static_cast<int>(std::floor(q.x() / res));
+      cy[a * n + i] = static_cast<int>(std::floor(q.y() / res));
+    }
+  }
+  auto sum = [&](const std::vector<float>& grid, int a, int dx, int dy) {
+    double s = 0.0;
+    const int* px = &cx[a * n];
+    const int* py = &cy[a * n];
+    for (size_t i = 0; i < n; ++i) {
+      const int x = px[i] + dx, y = py[i] + dy;
+      if (x < 0 || y < 0 || x >= l.width || y >= l.height) continue;
+      s += grid[static_cast<size_t>(y) * l.width + x];
+    }
+    return s;
+  };
+  // Depth-first branch and bound: a candidate (angle, dx, dy) at level l
+  // stands for the offsets [dx, dx + 2^l) x [dy, dy + 2^l); its score on
+  // pyramid[l] bounds the fine score of every one of them.
+  struct Candidate {
+    double upper;
+    int angle, dx, dy;
+  };
+  double best = -1.0;
+  int best_a = ntheta, best_dx = 0, best_dy = 0;
+  auto by_score = [](const Candidate& u, const Candidate& v) {
+    return u.upper > v.upper;
+  };
+  std::function<void(std::vector<Candidate>&, int)> search =
+      [&](std::vector<Candidate>& candidates, int level) {
+        std::sort(candidates.begin(), candidates.end(), by_score);
+        for (const Candidate& c : candidates) {
+          if (c.upper <= best) break;
+          if (level == 0) {
+            best = c.upper;
+            best_a = c.angle;
+            best_dx = c.dx;
+            best_dy = c.dy;
+            continue;
+          }
+          const int half = 1 << (level - 1);
+          std::vector<Candidate> children;
+          for (int oy = 0; oy <= half; oy += half) {
+            for (int ox = 0; ox <= half; ox += half) {
+              const int dx = c.dx + ox, dy = c.dy + oy;
+              if (dx > nxy || dy > nxy) continue;
+              children.push_back({sum(l.pyramid[level - 1], c.angle, dx, dy),
+                                  c.angle, dx, dy});
+            }
+          }
+          search(children, level - 1);
+        }
+      };
+  const int top = l.levels;
+  std::vector<Candidate> roots;
+  for (int a = 0; a < num_angles; ++a) {
+    for (int dy = -nxy; dy <= nxy; dy += 1 << top) {
+      for (int dx = -nxy; dx <= nxy; dx += 1 << top) {
+        roots.push_back({sum(l.pyramid[top], a, dx, dy), a, dx, dy});
+      }
+    }
+  }
+  search(roots, top);
+  *score = std::max(0.0, best) / static_cast<double>(n);
+  return Pose2(initial.t.x() + best_dx * res, initial.t.y() + best_dy * res,
+               initial.theta + (best_a - ntheta) * options.step_theta);
+}
+
+MatchResult MatchTarget::Match(const Points2& source, const Pose2& initial,
+                               const CorrelativeOptions& correlative,
+                               const IcpOptions& icp) const {
+  double score = 0.0;
+  const Pose2 coarse = Correlative(source, initial, correlative, &score);
+  MatchResult result = Icp(source, coarse, icp);
+  result.score = score;
+  return result;
+}
+
+}  // namespace slam

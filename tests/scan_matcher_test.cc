@@ -1,0 +1,232 @@
+// Scan matching (point-to-line ICP, correlative search) and the odometry
+// noise model on synthetic scans with known poses.
+#include "frontends/laser/scan_matcher.h"
+
+#include <Eigen/Eigenvalues>
+#include <cmath>
+#include <random>
+
+#include "frontends/laser/odometry_model.h"
+#include "frontends/laser/scan_simulator.h"
+#include "gtest/gtest.h"
+
+namespace slam {
+namespace {
+
+// A 12 x 8 m room with a few pillars and an inner wall, so that every pose
+// sees structure in both directions.
+std::vector<Wall> Room() {
+  std::vector<Wall> walls = RectangleWalls(-6, -4, 6, 4);
+  for (const Wall& w : RectangleWalls(1.0, 1.0, 1.6, 1.4)) walls.push_back(w);
+  for (const Wall& w : RectangleWalls(-3.0, -2.5, -2.4, -1.5))
+    walls.push_back(w);
+  walls.push_back({Eigen::Vector2d(-1, 4), Eigen::Vector2d(-1, 2)});
+  walls.push_back({Eigen::Vector2d(3, -4), Eigen::Vector2d(4, -2.5)});
+  return walls;
+}
+
+Points2 Scan(const std::vector<Wall>& walls, const Pose2& pose, double sigma,
+             std::mt19937* rng, double outlier_fraction = 0.0,
+             double fov = M_PI) {
+  ScanGeometry g;
+  g.num_beams = 181;
+  g.angle_min = -fov / 2;
+  g.angle_increment = fov / 180;
+  g.max_range = 20.0;
+  std::vector<float> ranges = SimulateScan(walls, pose, g, sigma, rng);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (float& r : ranges) {
+    if (u(*rng) < outlier_fraction) r = static_cast<float>(0.3 + 5.0 * u(*rng));
+  }
+  return RangesToPoints(ranges, g.angle_min, g.angle_increment, 0.05,
+                        g.max_range);
+}
+
+double AngleError(double a, double b) {
+  return std::abs(NormalizeAngle(a - b));
+}
+
+struct Fixture {
+  Pose2 a{0.5, -0.3, 0.2};
+  Pose2 b{1.1, 0.1, 0.45};
+  MatchTarget target;
+  Points2 source;
+  Pose2 truth;  // b in a's frame.
+};
+
+Fixture MakeFixture(double outliers, double fov, unsigned seed) {
+  std::mt19937 rng(seed);
+  Fixture f;
+  const std::vector<Wall> walls = Room();
+  f.target.Build(VoxelFilter(Scan(walls, f.a, 0.01, &rng, 0.0, fov), 0.03), 0.3,
+                 0.15);
+  f.source = Scan(walls, f.b, 0.01, &rng, outliers, fov);
+  f.truth = f.a.Inverse() * f.b;
+  return f;
+}
+
+TEST(ScanMatcherTest, IcpRecoversKnownTransformWithNoiseAndOutliers) {
+  // 270 degree scans: the two views overlap partly; 10% of the beams of the
+  // source are random short readings (outliers).
+  Fixture f = MakeFixture(0.1, 1.5 * M_PI, 1);
+  const Pose2 guess = f.truth * Pose2(0.08, -0.06, 0.04);
+  const MatchResult r = f.target.Icp(f.source, guess, IcpOptions());
+  ASSERT_TRUE(r.success);
+  EXPECT_LT((r.pose.t - f.truth.t).norm(), 0.01);
+  EXPECT_LT(AngleError(r.pose.theta, f.truth.theta), 0.003);
+  EXPECT_GT(r.fitness, 0.6);
+  EXPECT_LT(r.fitness, 0.95);  // The outliers are not inliers.
+  // The guess itself was far worse.
+  EXPECT_GT((guess.t - f.truth.t).norm(), 0.09);
+}
+
+TEST(ScanMatcherTest, CorrelativeSearchThenIcpFromAFarGuess) {
+  Fixture f = MakeFixture(0.05, M_PI, 2);
+  // Too far for ICP alone within the 0.3 m correspondence gate.
+  const Pose2 guess = f.truth * Pose2(0.45, -0.35, 0.25);
+  CorrelativeOptions c;
+  c.window_xy = 0.8;
+  c.window_theta = 0.4;
+  c.step_theta = 0.01;
+  const MatchResult r = f.target.Match(f.source, guess, c, IcpOptions());
+  ASSERT_TRUE(r.success);
+  EXPECT_LT((r.pose.t - f.truth.t).norm(), 0.01);
+  EXPECT_LT(AngleError(r.pose.theta, f.truth.theta), 0.003);
+  EXPECT_GT(r.score, 0.5);
+}
+
+TEST(ScanMatcherTest, CorrelativeBranchAndBoundEqualsExhaustiveSearch) {
+  Fixture f = MakeFixture(0.0, M_PI, 3);
+  const Pose2 guess = f.truth * Pose2(0.2, 0.1, -0.05);
+  CorrelativeOptions c;
+  c.window_xy = 0.4;
+  c.window_theta = 0.1;
+  c.step_theta = 0.02;
+  double score = 0.0;
+  const Pose2 bb = f.target.Correlative(f.source, guess, c, &score);
+  c.levels = 0;  // Every lattice point evaluated at the fine level.
+  double exhaustive_score = 0.0;
+  const Pose2 ex = f.target.Correlative(f.source, guess, c, &exhaustive_score);
+  EXPECT_NEAR(score, exhaustive_score, 1e-9);
+  EXPECT_LT((bb.t - ex.t).norm(), 1e-9);
+  EXPECT_NEAR(bb.theta, ex.theta, 1e-12);
+}
+
+TEST(ScanMatcherTest, IcpFailsWithoutOverlap) {
+  std::mt19937 rng(4);
+  MatchTarget target;
+  target.Build(Points2{}, 0.3, 0.15);
+  const MatchResult r = target.Icp(Scan(Room(), Pose2(0, 0, 0), 0.01, &rng),
+                                   Pose2(), IcpOptions());
+  EXPECT_FALSE(r.success);
+}
+
+TEST(ScanMatcherTest, CovarianceIsLargeAlongACorridor) {
+  // Two parallel walls along x, ends beyond the laser's range: the match
+  // constrains y and theta, not x.
+  std::vector<Wall> walls = {
+      {Eigen::Vector2d(-100, -1), Eigen::Vector2d(100, -1)},
+      {Eigen::Vector2d(-100, 1), Eigen::Vector2d(100, 1)}};
+  std::mt19937 rng(5);
+  MatchTarget target;
+  target.Build(VoxelFilter(Scan(walls, Pose2(0, 0, 0), 0.01, &rng), 0.03), 0.3,
+               0.15);
+  const Points2 source = Scan(walls, Pose2(0.2, 0.05, 0.02), 0.01, &rng);
+  const MatchResult r = target.Icp(source, Pose2(0.2, 0.0, 0.0), IcpOptions());
+  ASSERT_TRUE(r.success);
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(r.covariance);
+  EXPECT_GT(eig.eigenvalues()[0], 0.0);
+  EXPECT_GT(r.covariance(0, 0), 100.0 * r.covariance(1, 1));
+  // y is recovered.
+  EXPECT_NEAR(r.pose.t.y(), 0.05, 0.01);
+
+  // In the room every direction is constrained: a small covariance.
+  Fixture f = MakeFixture(0.0, M_PI, 6);
+  const MatchResult room = f.target.Icp(f.source, f.truth, IcpOptions());
+  ASSERT_TRUE(room.success);
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> room_eig(room.covariance);
+  EXPECT_GT(room_eig.eigenvalues()[0], 0.0);
+  EXPECT_LT(room.covariance(0, 0), 0.01 * r.covariance(0, 0));
+  EXPECT_LT(std::sqrt(room.covariance(0, 0)), 0.05);
+}
+
+TEST(OdometryModelTest, CovarianceMatchesSampledMotionModel) {
+  OdometryNoise noise;
+  noise.min_sigma_xy = 0.0;
+  noise.min_sigma_theta = 0.0;
+  const Pose2 a(1.0, 2.0, 0.3);
+  for (const Pose2& step :
+       {Pose2(0.5, 0.1, 0.2), Pose2(-0.4, 0.05, -0.1), Pose2(0.3, -0.2, 0.6)}) {
+    const Pose2 b = a * step;
+    const OdometryDelta d = OdometryMotion(a, b, noise);
+    EXPECT_LT((d.delta.t - step.t).norm(), 1e-12);
+    EXPECT_NEAR(d.delta.theta, step.theta, 1e-12);
+    // Sample the three-step model with small noise (alphas scaled down, so
+    // that first-order propagation holds) and compare covariances.
+    OdometryNoise small = noise;
+    small.alpha1 *= 0.01;
+    small.alpha2 *= 0.01;
+    small.alpha3 *= 0.01;
+    small.alpha4 *= 0.01;
+    const Eigen::Matrix3d model = OdometryMotion(a, b, small).covariance;
+    double trans = step.t.norm();
+    double rot1 = std::atan2(step.t.y(), step.t.x());
+    if (std::abs(rot1) > M_PI / 2) {
+      rot1 = NormalizeAngle(rot1 + M_PI);
+      trans = -trans;
+    }
+    const double rot2 = step.theta - rot1;
+    std::mt19937 rng(7);
+    std::normal_distribution<double> n(0.0, 1.0);
+    const int samples = 200000;
+    Eigen::Matrix3d sampled = Eigen::Matrix3d::Zero();
+    for (int k = 0; k < samples; ++k) {
+      const double r1 = rot1 + n(rng) * std::sqrt(small.alpha1 * rot1 * rot1 +
+                                                  small.alpha2 * trans * trans);
+      const double tr =
+          trans +
+          n(rng) * std::sqrt(small.alpha3 * trans * trans +
+                             small.alpha4 * (rot1 * rot1 + rot2 * rot2));
+      const double r2 = rot2 + n(rng) * std::sqrt(small.alpha1 * rot2 * rot2 +
+                                                  small.alpha2 * trans * trans);
+      const Eigen::Vector3d v(tr * std::cos(r1) - step.t.x(),
+                              tr * std::sin(r1) - step.t.y(),
+                              NormalizeAngle(r1 + r2 - step.theta));
+      sampled += v * v.transpose();
+    }
+    sampled /= samples;
+    for (int i = 0; i < 3; ++i) {
+      EXPECT_NEAR(model(i, i), sampled(i, i), 0.03 * sampled(i, i) + 1e-12)
+          << "component " << i;
+    }
+  }
+}
+
+TEST(OdometryModelTest, GrowsWithMotionAndStaysPositiveDefinite) {
+  const OdometryNoise noise;
+  const Pose2 a(0, 0, 0);
+  const Eigen::Matrix3d still = OdometryMotion(a, a, noise).covariance;
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(still);
+  EXPECT_GT(eig.eigenvalues()[0], 0.0);
+  const Eigen::Matrix3d short_step =
+      OdometryMotion(a, Pose2(0.1, 0, 0), noise).covariance;
+  const Eigen::Matrix3d long_step =
+      OdometryMotion(a, Pose2(1.0, 0, 0), noise).covariance;
+  EXPECT_GT(long_step(0, 0), short_step(0, 0));
+  EXPECT_GT(long_step(1, 1), short_step(1, 1));
+  EXPECT_GT(long_step(2, 2), short_step(2, 2));
+  EXPECT_GT(short_step(0, 0), still(0, 0));
+  // A turn on the spot: the heading variance grows with the angle.
+  const Eigen::Matrix3d turn =
+      OdometryMotion(a, Pose2(0, 0, 1.0), noise).covariance;
+  EXPECT_GT(turn(2, 2), 10.0 * still(2, 2));
+  // Reverse driving is as uncertain as forward driving (the sign of the
+  // y-theta correlation flips with the direction of travel).
+  const Eigen::Matrix3d back =
+      OdometryMotion(a, Pose2(-1.0, 0, 0), noise).covariance;
+  EXPECT_LT((back.diagonal() - long_step.diagonal()).norm(), 1e-12);
+  EXPECT_NEAR(back(1, 2), -long_step(1, 2), 1e-12);
+}
+
+}  // namespace
+}  // namespace slam
