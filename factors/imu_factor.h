@@ -30,14 +30,14 @@
 namespace slam {
 
 class ImuFactor {
-public:
-  ImuFactor(const PreintegratedImu &pim, const ImuMatrix9 &sqrt_information)
+ public:
+  ImuFactor(const PreintegratedImu& pim, const ImuMatrix9& sqrt_information)
       : pim_(pim), sqrt_information_(sqrt_information) {}
 
   template <typename T>
-  bool operator()(const T *const pose_i, const T *const vel_i,
-                  const T *const bias_i, const T *const pose_j,
-                  const T *const vel_j, T *residual) const {
+  bool operator()(const T* const pose_i, const T* const vel_i,
+                  const T* const bias_i, const T* const pose_j,
+                  const T* const vel_j, T* residual) const {
     const Eigen::Matrix<T, 9, 1> e =
         ImuError<T>(pim_, pose_i, vel_i, bias_i, pose_j, vel_j);
     Eigen::Map<Eigen::Matrix<T, 9, 1>> r(residual);
@@ -45,17 +45,17 @@ public:
     return true;
   }
 
-  static ceres::CostFunction *Create(const PreintegratedImu &pim,
-                                     const ImuMatrix9 &sqrt_information) {
+  static ceres::CostFunction* Create(const PreintegratedImu& pim,
+                                     const ImuMatrix9& sqrt_information) {
     return new ceres::AutoDiffCostFunction<ImuFactor, 9, 7, 3, 6, 7, 3>(
         new ImuFactor(pim, sqrt_information));
   }
 
-private:
+ private:
   PreintegratedImu pim_;
   ImuMatrix9 sqrt_information_;
 };
 
-} // namespace slam
+}  // namespace slam
 
-#endif // SLAM_FACTORS_IMU_FACTOR_H_
+#endif  // SLAM_FACTORS_IMU_FACTOR_H_
