@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "apps/simulate_config.h"
 #include "core/imu_preintegration.h"
 #include "core/lie.h"
 #include "datasets/imu_io.h"
@@ -26,6 +27,8 @@ namespace {
 
 using ::slam::testing::Contains;
 using ::slam::testing::DatasetPath;
+using ::slam::testing::ReadText;
+using ::slam::testing::RunSlam;
 using ::slam::testing::TempDir;
 using ::slam::testing::WriteText;
 
@@ -441,6 +444,89 @@ TEST(GtsamImuCsvTest, BadInputNamesFileAndLine) {
   EXPECT_FALSE(
       ReadGtsamImuCsv(dir + "/absent.csv", kGtsamImuDt, &data, &error));
   EXPECT_TRUE(Contains(error, "absent.csv")) << error;
+}
+
+// ---------------------------------------------------------------------------
+// slam simulate, world type inertial.
+
+TEST(SimulateInertialCommandTest, WritesAnEurocFolderFromTheConfig) {
+  const std::string tmp = TempDir();
+  const std::string config = tmp + "/c.yaml";
+  const std::string dir = tmp + "/out";
+  const std::string log = tmp + "/log";
+  WriteText(config,
+            "simulate:\n  seed: 4\n  world:\n    type: inertial\n"
+            "  inertial:\n    duration: 5\n    imu_rate: 100\n"
+            "    position_rate: 2\n    lever_arm: [0.1, 0, 0]\n"
+            "    trajectory:\n      amplitude: [3, 2, 0.5]\n");
+  ASSERT_EQ(RunSlam("simulate --config " + config + " -o " + dir, log), 0)
+      << ReadText(log);
+  EXPECT_TRUE(Contains(ReadText(log), "501 IMU samples")) << ReadText(log);
+  InertialData data;
+  std::string error;
+  ASSERT_TRUE(ReadEurocInertial(dir, &data, &error)) << error;
+  EXPECT_EQ(data.imu.size(), 501u);
+  EXPECT_EQ(data.positions.size(), 11u);
+  EXPECT_EQ(data.ground_truth.size(), 501u);
+  // The same as simulating in-process with the loaded config.
+  SimulationConfig loaded;
+  ASSERT_TRUE(LoadSimulationConfig(config, &loaded, &error)) << error;
+  InertialSimulationConfig inertial = loaded.inertial;
+  EXPECT_EQ(inertial.trajectory.amplitude, Eigen::Vector3d(3, 2, 0.5));
+  inertial.seed = loaded.seed;
+  InertialData expected;
+  ASSERT_TRUE(SimulateInertial(inertial, &expected, &error)) << error;
+  ExpectSameData(expected, data);
+  TrajectoryData tum;
+  ASSERT_TRUE(ReadTrajectory(dir + "/ground_truth.tum", TrajectoryReadOptions(),
+                             &tum, &error))
+      << error;
+  EXPECT_EQ(tum.poses.size(), 501u);
+}
+
+TEST(SimulateInertialCommandTest, DumpConfigRoundTripsAndBadKeysFail) {
+  const std::string tmp = TempDir();
+  const std::string config = tmp + "/c.yaml";
+  const std::string dump = tmp + "/dump.yaml";
+  WriteText(config,
+            "simulate:\n  world:\n    type: inertial\n  inertial:\n"
+            "    gyro_random_walk: 1e-4\n    gravity: [0, 0, -9.80665]\n"
+            "    trajectory:\n      roll_phase: 0.125\n");
+  ASSERT_EQ(RunSlam("simulate --config " + config + " --dump_config > " + dump),
+            0);
+  SimulationConfig a, b;
+  std::string error;
+  ASSERT_TRUE(LoadSimulationConfig(config, &a, &error)) << error;
+  ASSERT_TRUE(LoadSimulationConfig(dump, &b, &error)) << error;
+  EXPECT_EQ(b.world.type, "inertial");
+  EXPECT_EQ(b.inertial.noise.gyro_random_walk, 1e-4);
+  EXPECT_EQ(b.inertial.gravity, Eigen::Vector3d(0, 0, -9.80665));
+  EXPECT_EQ(b.inertial.trajectory.roll_phase, 0.125);
+  EXPECT_EQ(SimulationConfigToYaml(a), SimulationConfigToYaml(b));
+
+  const std::string log = tmp + "/log";
+  WriteText(config,
+            "simulate:\n  world:\n    type: inertial\n  inertial:\n"
+            "    lever_arm: [1, 2]\n");
+  EXPECT_EQ(RunSlam("simulate --config " + config + " -o " + tmp + "/o", log),
+            2);
+  EXPECT_TRUE(Contains(ReadText(log), config + ": key 'lever_arm' (line 5)"))
+      << ReadText(log);
+  WriteText(config,
+            "simulate:\n  world:\n    type: inertial\n  inertial:\n"
+            "    imu_rte: 100\n");
+  EXPECT_EQ(RunSlam("simulate --config " + config + " -o " + tmp + "/o", log),
+            2);
+  EXPECT_TRUE(Contains(ReadText(log), "unknown key 'imu_rte'"))
+      << ReadText(log);
+  WriteText(config,
+            "simulate:\n  world:\n    type: inertial\n  inertial:\n"
+            "    duration: -1\n");
+  EXPECT_EQ(RunSlam("simulate --config " + config + " -o " + tmp + "/o", log),
+            2);
+  EXPECT_TRUE(Contains(ReadText(log), "inertial.duration must be > 0"))
+      << ReadText(log);
+  EXPECT_FALSE(std::filesystem::exists(tmp + "/o"));
 }
 
 }  // namespace
