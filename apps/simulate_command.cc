@@ -133,6 +133,18 @@ int Fail(const std::string& message, int code = 1) {
   return code;
 }
 
+// Creates the output directory (and its parents) if needed.
+bool MakeOutputDirectory(const std::string& path, std::string* error) {
+  std::error_code ec;
+  std::filesystem::create_directories(path, ec);
+  if (ec || !std::filesystem::is_directory(path)) {
+    *error = path + ": cannot create the output directory" +
+             (ec ? " (" + ec.message() + ")" : std::string());
+    return false;
+  }
+  return true;
+}
+
 // World type inertial: IMU + position fixes into an EuRoC folder.
 int RunInertialSimulation(const SimulationConfig& config,
                           const std::string& out_dir) {
@@ -142,12 +154,7 @@ int RunInertialSimulation(const SimulationConfig& config,
   std::string error;
   if (!SimulateInertial(inertial, &data, &error)) return Fail(error);
   const std::filesystem::path dir(out_dir);
-  std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  if (ec || !std::filesystem::is_directory(dir)) {
-    return Fail(out_dir + ": cannot create the output directory" +
-                (ec ? " (" + ec.message() + ")" : std::string()));
-  }
+  if (!MakeOutputDirectory(out_dir, &error)) return Fail(error);
   Trajectory truth;
   truth.reserve(data.ground_truth.size());
   for (const InertialGroundTruth& g : data.ground_truth) {
@@ -205,12 +212,8 @@ int RunSimulateCommand(const std::vector<std::string>& args) {
 
   // Write.
   const std::filesystem::path dir(FLAGS_o);
+  if (!MakeOutputDirectory(FLAGS_o, &error)) return Fail(error);
   std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  if (ec || !std::filesystem::is_directory(dir)) {
-    return Fail(FLAGS_o + ": cannot create the output directory" +
-                (ec ? " (" + ec.message() + ")" : std::string()));
-  }
   const std::string graph_path = (dir / "graph.g2o").string();
   const std::string truth_path = (dir / "ground_truth.g2o").string();
   const std::string tum_path = (dir / "ground_truth.tum").string();

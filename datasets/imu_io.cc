@@ -112,6 +112,29 @@ bool ParseStamp(const CsvLines& csv, TimeNs* last, bool* has_last,
   return true;
 }
 
+// Reads the rows of an EuRoC CSV file: `fields` comma-separated fields, an
+// integer nanosecond stamp strictly increasing, then numbers; calls
+// row(stamp, numbers, csv) for each (it may fail with *error set).
+template <typename RowFn>
+bool ReadStampedRows(const std::string& path, size_t fields, const char* what,
+                     std::string* error, RowFn row) {
+  std::string contents;
+  if (!text::ReadWholeFile(path, &contents, error)) return false;
+  CsvLines csv(contents);
+  TimeNs last = 0, stamp = 0;
+  bool has_last = false;
+  std::vector<double> v(fields - 1);
+  while (csv.Next()) {
+    if (!CheckCount(csv, fields, what, path, error) ||
+        !ParseStamp(csv, &last, &has_last, &stamp, path, error) ||
+        !ParseFields(csv, 1, fields - 1, v.data(), path, error) ||
+        !row(stamp, v.data(), csv)) {
+      return false;
+    }
+  }
+  return true;
+}
+
 void AppendFields(const double* values, int n, std::string* out) {
   for (int k = 0; k < n; ++k) {
     out->push_back(',');
@@ -300,73 +323,56 @@ bool ReadEurocInertial(const std::string& folder, InertialData* data,
   const std::string mav0 = Mav0(folder);
   InertialData out;
   out.gravity = DefaultGravity();
-  std::string contents;
-  double v[16];
 
   const std::string imu_path = mav0 + "/imu0/data.csv";
   if (!FileExists(imu_path)) {
     *error = folder + ": no mav0/imu0/data.csv (not an EuRoC folder)";
     return false;
   }
-  if (!text::ReadWholeFile(imu_path, &contents, error)) return false;
-  {
-    CsvLines csv(contents);
-    TimeNs last = 0;
-    bool has_last = false;
-    while (csv.Next()) {
-      ImuSample s;
-      if (!CheckCount(csv, 7, "an IMU row", imu_path, error) ||
-          !ParseStamp(csv, &last, &has_last, &s.stamp, imu_path, error) ||
-          !ParseFields(csv, 1, 6, v, imu_path, error)) {
-        return false;
-      }
-      s.gyro = Eigen::Vector3d(v[0], v[1], v[2]);
-      s.accel = Eigen::Vector3d(v[3], v[4], v[5]);
-      out.imu.push_back(s);
-    }
+  if (!ReadStampedRows(imu_path, 7, "an IMU row", error,
+                       [&](TimeNs stamp, const double* v, const CsvLines&) {
+                         ImuSample s;
+                         s.stamp = stamp;
+                         s.gyro = Eigen::Vector3d(v[0], v[1], v[2]);
+                         s.accel = Eigen::Vector3d(v[3], v[4], v[5]);
+                         out.imu.push_back(s);
+                         return true;
+                       })) {
+    return false;
   }
 
   const std::string gt_path = mav0 + "/state_groundtruth_estimate0/data.csv";
-  if (FileExists(gt_path)) {
-    if (!text::ReadWholeFile(gt_path, &contents, error)) return false;
-    CsvLines csv(contents);
-    TimeNs last = 0;
-    bool has_last = false;
-    while (csv.Next()) {
-      InertialGroundTruth g;
-      if (!CheckCount(csv, 17, "a ground-truth row", gt_path, error) ||
-          !ParseStamp(csv, &last, &has_last, &g.stamp, gt_path, error) ||
-          !ParseFields(csv, 1, 16, v, gt_path, error)) {
-        return false;
-      }
-      Eigen::Quaterniond q;
-      // EuRoC writes the quaternion w first.
-      if (!Quaternion(csv, v[4], v[5], v[6], v[3], &q, gt_path, error)) {
-        return false;
-      }
-      g.pose = Pose3(Eigen::Vector3d(v[0], v[1], v[2]), q);
-      g.velocity = Eigen::Vector3d(v[7], v[8], v[9]);
-      g.bias << v[10], v[11], v[12], v[13], v[14], v[15];
-      out.ground_truth.push_back(g);
-    }
+  if (FileExists(gt_path) &&
+      !ReadStampedRows(gt_path, 17, "a ground-truth row", error,
+                       [&](TimeNs stamp, const double* v, const CsvLines& csv) {
+                         InertialGroundTruth g;
+                         g.stamp = stamp;
+                         Eigen::Quaterniond q;
+                         // EuRoC writes the quaternion w first.
+                         if (!Quaternion(csv, v[4], v[5], v[6], v[3], &q,
+                                         gt_path, error)) {
+                           return false;
+                         }
+                         g.pose = Pose3(Eigen::Vector3d(v[0], v[1], v[2]), q);
+                         g.velocity = Eigen::Vector3d(v[7], v[8], v[9]);
+                         g.bias << v[10], v[11], v[12], v[13], v[14], v[15];
+                         out.ground_truth.push_back(g);
+                         return true;
+                       })) {
+    return false;
   }
 
   const std::string fix_path = mav0 + "/leica0/data.csv";
-  if (FileExists(fix_path)) {
-    if (!text::ReadWholeFile(fix_path, &contents, error)) return false;
-    CsvLines csv(contents);
-    TimeNs last = 0;
-    bool has_last = false;
-    while (csv.Next()) {
-      PositionFix f;
-      if (!CheckCount(csv, 4, "a position row", fix_path, error) ||
-          !ParseStamp(csv, &last, &has_last, &f.stamp, fix_path, error) ||
-          !ParseFields(csv, 1, 3, v, fix_path, error)) {
-        return false;
-      }
-      f.position = Eigen::Vector3d(v[0], v[1], v[2]);
-      out.positions.push_back(f);
-    }
+  if (FileExists(fix_path) &&
+      !ReadStampedRows(fix_path, 4, "a position row", error,
+                       [&](TimeNs stamp, const double* v, const CsvLines&) {
+                         PositionFix f;
+                         f.stamp = stamp;
+                         f.position = Eigen::Vector3d(v[0], v[1], v[2]);
+                         out.positions.push_back(f);
+                         return true;
+                       })) {
+    return false;
   }
   *data = std::move(out);
   return true;

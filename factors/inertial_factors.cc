@@ -95,30 +95,37 @@ bool MakePositionFactor(const Key& pose, const Eigen::Vector3d& z,
   return true;
 }
 
+namespace {
+
+template <int N>
+bool MakeEuclideanPrior(FactorType type, const Key& key,
+                        const Eigen::Matrix<double, N, 1>& z,
+                        const Eigen::Matrix<double, N, N>& information,
+                        Factor* factor, std::string* error) {
+  Eigen::MatrixXd sqrt_info;
+  if (!Whitening(information, &sqrt_info, error)) return false;
+  factor->type = type;
+  factor->keys = {key};
+  factor->measurement = z;
+  factor->information = information;
+  factor->cost.reset(EuclideanPriorFactor<N>::Create(z, sqrt_info));
+  return true;
+}
+
+}  // namespace
+
 bool MakePriorVelocity(const Key& velocity, const Eigen::Vector3d& z,
                        const Eigen::Matrix3d& information, Factor* factor,
                        std::string* error) {
-  Eigen::MatrixXd sqrt_info;
-  if (!Whitening(information, &sqrt_info, error)) return false;
-  factor->type = FactorType::kPriorVelocity;
-  factor->keys = {velocity};
-  factor->measurement = z;
-  factor->information = information;
-  factor->cost.reset(EuclideanPriorFactor<3>::Create(z, sqrt_info));
-  return true;
+  return MakeEuclideanPrior<3>(FactorType::kPriorVelocity, velocity, z,
+                               information, factor, error);
 }
 
 bool MakePriorBias(const Key& bias, const ImuBias& z,
                    const Eigen::Matrix<double, 6, 6>& information,
                    Factor* factor, std::string* error) {
-  Eigen::MatrixXd sqrt_info;
-  if (!Whitening(information, &sqrt_info, error)) return false;
-  factor->type = FactorType::kPriorBias;
-  factor->keys = {bias};
-  factor->measurement = z;
-  factor->information = information;
-  factor->cost.reset(EuclideanPriorFactor<6>::Create(z, sqrt_info));
-  return true;
+  return MakeEuclideanPrior<6>(FactorType::kPriorBias, bias, z, information,
+                               factor, error);
 }
 
 }  // namespace slam
