@@ -224,8 +224,9 @@ bool IntegrateImuSamples(const std::vector<ImuSample>& samples, TimeNs t_begin,
                          TimeNs t_end, PreintegratedImu* pim);
 
 // Right Jacobian of SO(3) at phi (full angle): Exp(phi + d) ~ Exp(phi)
-// Exp(Jr(phi) d).
+// Exp(Jr(phi) d); and its inverse: Log(Exp(phi) Exp(d)) ~ phi + Jr^-1 d.
 Eigen::Matrix3d RightJacobianSO3(const Eigen::Vector3d& phi);
+Eigen::Matrix3d RightJacobianInverseSO3(const Eigen::Vector3d& phi);
 
 }  // namespace slam
 

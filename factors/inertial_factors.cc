@@ -55,7 +55,7 @@ bool MakeImuFactor(const Key& pose_i, const Key& vel_i, const Key& bias_i,
   factor->measurement << pim.delta_q().coeffs(), pim.delta_v(), pim.delta_p(),
       pim.delta_t();
   factor->information = sqrt_info.transpose() * sqrt_info;
-  factor->cost.reset(ImuFactor::Create(pim, sqrt_info));
+  factor->cost.reset(ImuFactor::CreateAnalytic(pim, sqrt_info));
   return true;
 }
 

@@ -16,6 +16,7 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,7 @@
 #include "core/optimizer.h"
 #include "datasets/inertial_simulator.h"
 #include "datasets/inertial_trajectory.h"
+#include "factors/imu_factor.h"
 #include "factors/inertial_factors.h"
 #include "factors/pose_factors.h"
 #include "gtest/gtest.h"
@@ -351,6 +353,50 @@ Eigen::VectorXd EvaluateCost(const Factor& f,
   return r;
 }
 
+// Residuals and tangent-space Jacobians (ambient Jacobian times the
+// manifold's PlusJacobian for 7-value pose blocks) of two cost functions.
+void ExpectSameTangentJacobians(const ceres::CostFunction& a,
+                                const ceres::CostFunction& b,
+                                const std::vector<const double*>& params) {
+  const int m = a.num_residuals();
+  const std::vector<int32_t>& sizes = a.parameter_block_sizes();
+  std::vector<Eigen::MatrixXd> ja, jb;
+  std::vector<double*> pa, pb;
+  for (int32_t size : sizes) {
+    ja.emplace_back(m, size);
+    jb.emplace_back(m, size);
+  }
+  for (size_t k = 0; k < sizes.size(); ++k) {
+    pa.push_back(ja[k].data());
+    pb.push_back(jb[k].data());
+  }
+  Eigen::VectorXd ra(m), rb(m);
+  ASSERT_TRUE(a.Evaluate(params.data(), ra.data(), pa.data()));
+  ASSERT_TRUE(b.Evaluate(params.data(), rb.data(), pb.data()));
+  EXPECT_LT((ra - rb).norm(), 1e-12 * (1.0 + ra.norm()));
+  const SE3Manifold se3;
+  for (size_t k = 0; k < sizes.size(); ++k) {
+    // The buffers are row-major m x size: transpose the column-major view.
+    Eigen::MatrixXd a_k =
+        Eigen::Map<Eigen::Matrix<double, -1, -1, Eigen::RowMajor>>(ja[k].data(),
+                                                                   m, sizes[k]);
+    Eigen::MatrixXd b_k =
+        Eigen::Map<Eigen::Matrix<double, -1, -1, Eigen::RowMajor>>(jb[k].data(),
+                                                                   m, sizes[k]);
+    if (sizes[k] == 7) {
+      Eigen::Matrix<double, 7, 6, Eigen::RowMajor> plus;
+      se3.PlusJacobian(params[k], plus.data());
+      a_k = a_k * plus;
+      b_k = b_k * plus;
+    }
+    const double scale = std::max(1.0, b_k.cwiseAbs().maxCoeff());
+    EXPECT_LT((a_k - b_k).cwiseAbs().maxCoeff(), 1e-9 * scale)
+        << "block " << k << "\nanalytic\n"
+        << a_k << "\nautodiff\n"
+        << b_k;
+  }
+}
+
 TEST(InertialFactorsTest, ImuFactorWhiteningAndJacobians) {
   const LissajousTrajectory traj;
   Rng rng(11);
@@ -369,6 +415,11 @@ TEST(InertialFactorsTest, ImuFactorWhiteningAndJacobians) {
                               Pose3Key(1), VelocityKey(1), pim, &f, &error))
         << error;
     EXPECT_EQ(f.type, FactorType::kImu);
+    // The autodiff reference of the builder's analytic cost function.
+    Eigen::MatrixXd sqrt_info;
+    ASSERT_TRUE(SqrtInformationFromCovariance(pim.covariance(), &sqrt_info));
+    const std::unique_ptr<ceres::CostFunction> autodiff(
+        ImuFactor::Create(pim, sqrt_info));
     ASSERT_EQ(f.keys.size(), 5u);
     EXPECT_EQ(f.keys[2], ImuBiasKey(0));
     EXPECT_EQ(f.measurement.size(), 11);
@@ -396,6 +447,19 @@ TEST(InertialFactorsTest, ImuFactorWhiteningAndJacobians) {
     EXPECT_NEAR(r.squaredNorm(), e.dot(f.information * e), 1e-6 * expected);
 
     ExpectJacobiansMatch(*f.cost, &manifolds, params);
+    ExpectSameTangentJacobians(*f.cost, *autodiff, params);
+  }
+}
+
+TEST(InertialFactorsTest, RightJacobianInverse) {
+  Rng rng(13);
+  for (double scale : {1e-7, 1e-3, 0.5, 2.0, 3.0}) {
+    const Eigen::Vector3d phi = scale * rng.UnitVector();
+    EXPECT_LT((RightJacobianSO3(phi) * RightJacobianInverseSO3(phi) -
+               Eigen::Matrix3d::Identity())
+                  .norm(),
+              1e-12)
+        << scale;
   }
 }
 
