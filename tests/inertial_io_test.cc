@@ -66,6 +66,26 @@ InertialSimulationConfig NoiseFree() {
   return config;
 }
 
+// Predicts the ground truth 0.5 s (100 samples) ahead from the ground truth
+// every `step` samples with the readings; errors within `tolerance` (m,
+// m/s) and `rotation_tolerance` (rad).
+void ExpectReadingsReproduceTruth(const InertialData& data, size_t step,
+                                  double tolerance, double rotation_tolerance) {
+  for (size_t k = 0; k + 100 < data.ground_truth.size(); k += step) {
+    const InertialGroundTruth& gi = data.ground_truth[k];
+    const InertialGroundTruth& gj = data.ground_truth[k + 100];
+    PreintegratedImu pim(ImuNoise(), gi.bias, data.gravity);
+    ASSERT_TRUE(IntegrateImuSamples(data.imu, gi.stamp, gj.stamp, &pim));
+    const NavState predicted = pim.Predict({gi.pose, gi.velocity}, gi.bias);
+    EXPECT_LT((predicted.pose.t - gj.pose.t).norm(), tolerance) << k;
+    EXPECT_LT((predicted.velocity - gj.velocity).norm(), tolerance) << k;
+    EXPECT_LT(
+        QuaternionLog<double>(predicted.pose.q.conjugate() * gj.pose.q).norm(),
+        rotation_tolerance)
+        << k;
+  }
+}
+
 // A spline through the Lissajous curve sampled at 10 Hz (uneven stamps).
 SplineTrajectory SplineThroughLissajous(const LissajousTrajectory& curve) {
   std::vector<StampedPose> poses;
@@ -155,15 +175,7 @@ TEST(SplineTrajectoryTest, KittiGroundTruthDrivesTheSimulator) {
   EXPECT_LT(max_vertical_speed, 1.0);
   EXPECT_NEAR(data.imu[6000].accel.norm(), 9.81, 2.0);
   // Noise-free readings integrate to the spline's ground truth.
-  for (int k = 0; k + 100 < 12001; k += 1000) {
-    const InertialGroundTruth& gi = data.ground_truth[k];
-    const InertialGroundTruth& gj = data.ground_truth[k + 100];
-    PreintegratedImu pim(ImuNoise(), gi.bias, data.gravity);
-    ASSERT_TRUE(IntegrateImuSamples(data.imu, gi.stamp, gj.stamp, &pim));
-    const NavState predicted = pim.Predict({gi.pose, gi.velocity}, gi.bias);
-    EXPECT_LT((predicted.pose.t - gj.pose.t).norm(), 1e-3) << k;
-    EXPECT_LT((predicted.velocity - gj.velocity).norm(), 1e-3) << k;
-  }
+  ExpectReadingsReproduceTruth(data, 1000, 1e-3, 1e-3);
   SplineTrajectory spline;
   TrajectoryReadOptions options;
   options.kitti_times_path = times;
@@ -191,19 +203,7 @@ TEST(InertialSimulatorTest, NoiseFreeReadingsIntegrateToTheGroundTruth) {
   EXPECT_EQ(data.imu[200].stamp, 1000000000);
   // Keyframes every 0.5 s: prediction from the true state with the true
   // bias reproduces the next true state (second-order integration error).
-  for (int k = 0; k + 100 < 2001; k += 100) {
-    const InertialGroundTruth& gi = data.ground_truth[k];
-    const InertialGroundTruth& gj = data.ground_truth[k + 100];
-    PreintegratedImu pim(ImuNoise(), gi.bias, data.gravity);
-    ASSERT_TRUE(IntegrateImuSamples(data.imu, gi.stamp, gj.stamp, &pim));
-    const NavState predicted = pim.Predict({gi.pose, gi.velocity}, gi.bias);
-    EXPECT_LT((predicted.pose.t - gj.pose.t).norm(), 1e-5) << k;
-    EXPECT_LT((predicted.velocity - gj.velocity).norm(), 1e-5) << k;
-    EXPECT_LT(
-        QuaternionLog<double>(predicted.pose.q.conjugate() * gj.pose.q).norm(),
-        1e-6)
-        << k;
-  }
+  ExpectReadingsReproduceTruth(data, 100, 1e-5, 1e-6);
   // Position fixes: the antenna at the lever arm.
   for (const PositionFix& f : data.positions) {
     const size_t k = static_cast<size_t>(f.stamp / 5000000);
