@@ -173,6 +173,27 @@ TEST(ImuPreintegrationTest, IntegratesStampedSamplesBetweenKeyframes) {
   EXPECT_EQ(pim.num_samples(), 201);
 }
 
+TEST(ImuPreintegrationTest, HoldInterpolationHoldsEachSample) {
+  std::vector<ImuSample> samples(2);
+  samples[0].stamp = 0;
+  samples[0].accel = Eigen::Vector3d(0.1, 0.2, 9.8);
+  samples[0].gyro = Eigen::Vector3d(0.3, -0.1, 0.2);
+  samples[1].stamp = 10000000;
+  samples[1].accel = Eigen::Vector3d(-0.4, 0.5, 9.7);
+  samples[1].gyro = Eigen::Vector3d(-0.2, 0.4, 0.1);
+  // [2 ms, 25 ms]: sample 0 over 8 ms, sample 1 over 15 ms.
+  PreintegratedImu held, expected, linear;
+  ASSERT_TRUE(IntegrateImuSamples(samples, 2000000, 25000000, &held,
+                                  ImuInterpolation::kHold));
+  expected.Integrate(samples[0].accel, samples[0].gyro, 0.008);
+  expected.Integrate(samples[1].accel, samples[1].gyro, 0.015);
+  EXPECT_LT((held.delta_p() - expected.delta_p()).norm(), 1e-15);
+  EXPECT_LT((held.delta_v() - expected.delta_v()).norm(), 1e-15);
+  EXPECT_LT((held.covariance() - expected.covariance()).norm(), 1e-15);
+  ASSERT_TRUE(IntegrateImuSamples(samples, 2000000, 25000000, &linear));
+  EXPECT_GT((linear.delta_v() - expected.delta_v()).norm(), 1e-4);
+}
+
 TEST(ImuPreintegrationTest, RejectsBadSamples) {
   PreintegratedImu pim;
   const Eigen::Vector3d a(0, 0, 9.81), g(0.1, 0, 0);
