@@ -28,7 +28,8 @@
 namespace slam {
 
 // Fails when the preintegration holds no sample or its covariance is not
-// positive definite.
+// positive definite (one reading alone gives a rank-6 covariance: velocity
+// and position noise are then perfectly correlated; integrate two or more).
 bool MakeImuFactor(const Key& pose_i, const Key& vel_i, const Key& bias_i,
                    const Key& pose_j, const Key& vel_j,
                    const PreintegratedImu& pim, Factor* factor,
