@@ -616,14 +616,23 @@ TEST(InertialFactorsTest, FactorsEnterTheGraph) {
   const NavState s0 = StateAt(traj, 0.0);
   const NavState s1 = pim.Predict(s0, ImuBias::Zero());
   Graph graph;
-  ASSERT_NE(graph.AddNode(Pose3Key(0), Pose3Value(s0.pose)), nullptr);
-  ASSERT_NE(graph.AddNode(Pose3Key(1), Pose3Value(s1.pose)), nullptr);
-  const Eigen::Vector3d& v0 = s0.velocity;
-  const Eigen::Vector3d& v1 = s1.velocity;
-  ASSERT_NE(graph.AddNode(VelocityKey(0), {v0.x(), v0.y(), v0.z()}), nullptr);
-  ASSERT_NE(graph.AddNode(VelocityKey(1), {v1.x(), v1.y(), v1.z()}), nullptr);
-  ASSERT_NE(graph.AddNode(ImuBiasKey(0), std::vector<double>(6, 0.0)), nullptr);
-  ASSERT_NE(graph.AddNode(ImuBiasKey(1), std::vector<double>(6, 0.0)), nullptr);
+  ASSERT_TRUE(AddInertialState(&graph, 0, 0, s0, ImuBias::Zero()));
+  ImuBias b1;
+  b1 << 1, 2, 3, 4, 5, 6;
+  ASSERT_TRUE(AddInertialState(&graph, 1, 200000000, s1, b1));
+  EXPECT_FALSE(AddInertialState(&graph, 1, 0, s1, b1));  // Exists.
+  EXPECT_EQ(graph.NumNodes(), 6u);
+  EXPECT_TRUE(graph.FindNode(VelocityKey(1))->has_stamp);
+  EXPECT_EQ(graph.FindNode(ImuBiasKey(1))->stamp, 200000000);
+  NavState back;
+  ImuBias b_back;
+  ASSERT_TRUE(GetInertialState(graph, 1, &back, &b_back));
+  EXPECT_EQ(back.velocity, s1.velocity);
+  EXPECT_EQ(b_back, b1);
+  EXPECT_LT((back.pose.t - s1.pose.t).norm(), 1e-15);
+  EXPECT_FALSE(GetInertialState(graph, 2, &back, &b_back));
+  std::vector<double>& b1_value = graph.FindNode(ImuBiasKey(1))->value;
+  std::fill(b1_value.begin(), b1_value.end(), 0.0);
   Factor imu, rw;
   std::string error;
   ASSERT_TRUE(MakeImuFactor(Pose3Key(0), VelocityKey(0), ImuBiasKey(0),
