@@ -18,6 +18,11 @@ const char* FactorTypeName(FactorType type) {
     case FactorType::kRelativePoint3: return "relative_point3";
     case FactorType::kStereo: return "stereo";
     case FactorType::kReprojection: return "reprojection";
+    case FactorType::kImu: return "imu";
+    case FactorType::kBiasRandomWalk: return "bias_random_walk";
+    case FactorType::kPosition: return "position";
+    case FactorType::kPriorVelocity: return "prior_velocity";
+    case FactorType::kPriorBias: return "prior_bias";
     case FactorType::kOther: return "other";
   }
   return "other";

@@ -52,6 +52,12 @@ enum class FactorType : uint8_t {
   kRelativePoint3,  // SE(3) pose, 3D point: point in the sensor frame.
   kStereo,          // SE(3) camera, 3D point: rectified stereo (uL, uR, v).
   kReprojection,    // SE(3) camera, 3D point: pinhole (u, v).
+  // Inertial factors (factors/inertial_factors.h documents measurements).
+  kImu,             // keys {pose_i, vel_i, bias_i, pose_j, vel_j}.
+  kBiasRandomWalk,  // keys {bias_i, bias_j}.
+  kPosition,        // keys {pose}; measurement (z world (3), lever arm (3)).
+  kPriorVelocity,   // keys {vel}; measurement (vx, vy, vz).
+  kPriorBias,       // keys {bias}; measurement (bg, ba).
   kOther,
 };
 const char* FactorTypeName(FactorType type);

@@ -348,8 +348,8 @@ void CountDimensions(SimulationResult* result) {
 
 const std::vector<std::string>& SimulationWorldTypes() {
   static const auto* types = new std::vector<std::string>{
-      "grid2d",      "grid3d", "sphere3d", "landmarks2d",
-      "landmarks3d", "stereo", "monocular"};
+      "grid2d", "grid3d",      "sphere3d", "landmarks2d",
+      "landmarks3d", "stereo", "monocular", "inertial"};
   return *types;
 }
 
@@ -364,6 +364,9 @@ bool ValidateSimulationConfig(const SimulationConfig& config,
     }
     *error = "world.type '" + w.type + "' is not one of " + names;
     return false;
+  }
+  if (w.type == "inertial") {
+    return ValidateInertialSimulationConfig(config.inertial, error);
   }
   if (w.num_poses < 2 || w.num_poses > 10000000) {
     *error = "world.num_poses must be in [2, 10000000]";
@@ -414,6 +417,10 @@ bool ValidateSimulationConfig(const SimulationConfig& config,
 bool Simulate(const SimulationConfig& config, SimulationResult* result,
               std::string* error) {
   if (!ValidateSimulationConfig(config, error)) return false;
+  if (config.world.type == "inertial") {
+    *error = "world.type inertial is simulated by SimulateInertial";
+    return false;
+  }
   *result = SimulationResult();
   Random random(config.seed);
   if (simulator_internal::IsLandmarkWorld(config.world.type)) {
