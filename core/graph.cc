@@ -13,6 +13,7 @@ const char* FactorTypeName(FactorType type) {
     case FactorType::kBetweenSE3: return "between_se3";
     case FactorType::kPriorSE2: return "prior_se2";
     case FactorType::kPriorSE3: return "prior_se3";
+    case FactorType::kMarginalizationPrior: return "marginalization_prior";
     case FactorType::kOther: return "other";
   }
   return "other";
@@ -121,6 +122,7 @@ std::vector<Key> Graph::GaugeAnchors() const {
       parent[find(index[k])] = find(first);
     }
     if (f.keys.size() == 1) has_prior[first] = true;
+    if (f.type == FactorType::kMarginalizationPrior) has_prior[first] = true;
   }
   // A component is anchored if any member is fixed or carries a prior.
   std::vector<bool> anchored(by_index.size(), false);

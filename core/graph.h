@@ -45,6 +45,9 @@ enum class FactorType : uint8_t {
   kBetweenSE3,      // keys {i, j}; measurement (t, q xyzw) of X_i^-1 X_j.
   kPriorSE2,        // keys {i}; measurement (x, y, theta) of X_i.
   kPriorSE3,        // keys {i}; measurement (t, q xyzw) of X_i.
+  kMarginalizationPrior,  // Dense linear prior left by marginalization
+                          // (core/marginalization.h); counts as a prior on
+                          // every key it touches for the gauge.
   kOther,
 };
 const char* FactorTypeName(FactorType type);
