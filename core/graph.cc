@@ -13,6 +13,11 @@ const char* FactorTypeName(FactorType type) {
     case FactorType::kBetweenSE3: return "between_se3";
     case FactorType::kPriorSE2: return "prior_se2";
     case FactorType::kPriorSE3: return "prior_se3";
+    case FactorType::kImu: return "imu";
+    case FactorType::kBiasRandomWalk: return "bias_random_walk";
+    case FactorType::kPosition: return "position";
+    case FactorType::kPriorVelocity: return "prior_velocity";
+    case FactorType::kPriorBias: return "prior_bias";
     case FactorType::kMarginalizationPrior: return "marginalization_prior";
     case FactorType::kOther: return "other";
   }

@@ -45,6 +45,12 @@ enum class FactorType : uint8_t {
   kBetweenSE3,      // keys {i, j}; measurement (t, q xyzw) of X_i^-1 X_j.
   kPriorSE2,        // keys {i}; measurement (x, y, theta) of X_i.
   kPriorSE3,        // keys {i}; measurement (t, q xyzw) of X_i.
+  // Inertial factors (factors/inertial_factors.h documents measurements).
+  kImu,             // keys {pose_i, vel_i, bias_i, pose_j, vel_j}.
+  kBiasRandomWalk,  // keys {bias_i, bias_j}.
+  kPosition,        // keys {pose}; measurement (z world (3), lever arm (3)).
+  kPriorVelocity,   // keys {vel}; measurement (vx, vy, vz).
+  kPriorBias,       // keys {bias}; measurement (bg, ba).
   kMarginalizationPrior,  // Dense linear prior left by marginalization
                           // (core/marginalization.h); counts as a prior on
                           // every key it touches for the gauge.

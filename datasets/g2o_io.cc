@@ -257,8 +257,7 @@ bool WriteG2o(const std::string& path, const Graph& graph,
       case FactorType::kBetweenSE3: out += "EDGE_SE3:QUAT"; break;
       case FactorType::kPriorSE2: out += "EDGE_PRIOR_SE2"; break;
       case FactorType::kPriorSE3: out += "EDGE_SE3_PRIOR"; break;
-      case FactorType::kMarginalizationPrior:
-      case FactorType::kOther: break;
+      default: break;  // CollectPoseGraph keeps pose factors only.
     }
     for (const Key& key : factor->keys) {
       out.push_back(' ');

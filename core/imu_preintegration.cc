@@ -1,0 +1,144 @@
+#include "core/imu_preintegration.h"
+
+#include <cmath>
+
+namespace slam {
+namespace {
+
+bool PositiveFinite(double x) { return std::isfinite(x) && x > 0.0; }
+
+} // namespace
+
+bool ImuNoise::IsValid() const {
+  return PositiveFinite(gyro_noise_density) &&
+         PositiveFinite(accel_noise_density) &&
+         PositiveFinite(gyro_random_walk) && PositiveFinite(accel_random_walk);
+}
+
+Eigen::Matrix3d RightJacobianSO3(const Eigen::Vector3d &phi) {
+  const double theta_sq = phi.squaredNorm();
+  const Eigen::Matrix3d k = Skew<double>(phi);
+  if (theta_sq < 1e-10) {
+    return Eigen::Matrix3d::Identity() - 0.5 * k + k * k / 6.0;
+  }
+  const double theta = std::sqrt(theta_sq);
+  return Eigen::Matrix3d::Identity() - (1.0 - std::cos(theta)) / theta_sq * k +
+         (theta - std::sin(theta)) / (theta_sq * theta) * k * k;
+}
+
+PreintegratedImu::PreintegratedImu(const ImuNoise &noise,
+                                   const ImuBias &bias_lin,
+                                   const Eigen::Vector3d &gravity)
+    : noise_(noise), bias_lin_(bias_lin), gravity_(gravity) {
+  Reset();
+}
+
+void PreintegratedImu::Reset() {
+  delta_q_.setIdentity();
+  delta_v_.setZero();
+  delta_p_.setZero();
+  delta_t_ = 0.0;
+  num_samples_ = 0;
+  covariance_.setZero();
+  bias_jacobian_.setZero();
+}
+
+void PreintegratedImu::Reset(const ImuBias &bias_lin) {
+  bias_lin_ = bias_lin;
+  Reset();
+}
+
+bool PreintegratedImu::Integrate(const Eigen::Vector3d &accel,
+                                 const Eigen::Vector3d &gyro, double dt) {
+  if (!(dt > 0.0) || !std::isfinite(dt) || !accel.allFinite() ||
+      !gyro.allFinite()) {
+    return false;
+  }
+  const Eigen::Vector3d w = gyro - bias_lin_.head<3>();
+  const Eigen::Vector3d a = accel - bias_lin_.tail<3>();
+  const Eigen::Matrix3d r = delta_q_.toRotationMatrix();
+  const Eigen::Quaterniond e_q = QuaternionExp<double>(w * dt);
+  const Eigen::Quaterniond e_half_q = QuaternionExp<double>(w * (0.5 * dt));
+  const Eigen::Matrix3d e = e_q.toRotationMatrix();
+  const Eigen::Matrix3d e_half = e_half_q.toRotationMatrix();
+  const Eigen::Matrix3d r_half = r * e_half;
+  const Eigen::Matrix3d jr = RightJacobianSO3(w * dt);
+  const Eigen::Matrix3d jr_half = RightJacobianSO3(w * (0.5 * dt));
+  const Eigen::Matrix3d r_half_a_skew = r_half * Skew<double>(a);
+  const double dt2 = dt * dt;
+
+  // Error-state transition over [dphi, dv, dp] ...
+  ImuMatrix9 A = ImuMatrix9::Identity();
+  A.block<3, 3>(0, 0) = e.transpose();
+  A.block<3, 3>(3, 0) = -r_half_a_skew * e_half.transpose() * dt;
+  A.block<3, 3>(6, 0) = -0.5 * r_half_a_skew * e_half.transpose() * dt2;
+  A.block<3, 3>(6, 3) = Eigen::Matrix3d::Identity() * dt;
+  // ... and its input matrix over [gyro, accel] (white noise and bias enter
+  // the readings identically, so B also drives the bias Jacobians).
+  ImuMatrix96 B = ImuMatrix96::Zero();
+  B.block<3, 3>(0, 0) = -jr * dt;
+  B.block<3, 3>(3, 0) = r_half_a_skew * jr_half * (0.5 * dt2);
+  B.block<3, 3>(3, 3) = -r_half * dt;
+  B.block<3, 3>(6, 0) = r_half_a_skew * jr_half * (0.25 * dt2 * dt);
+  B.block<3, 3>(6, 3) = -0.5 * r_half * dt2;
+
+  Eigen::Matrix<double, 6, 1> q_diag;
+  const double var_g =
+      noise_.gyro_noise_density * noise_.gyro_noise_density / dt;
+  const double var_a =
+      noise_.accel_noise_density * noise_.accel_noise_density / dt;
+  q_diag << var_g, var_g, var_g, var_a, var_a, var_a;
+  covariance_ =
+      A * covariance_ * A.transpose() + B * q_diag.asDiagonal() * B.transpose();
+  covariance_ = 0.5 * (covariance_ + covariance_.transpose()).eval();
+  bias_jacobian_ = A * bias_jacobian_ + B;
+
+  const Eigen::Vector3d a_world = r_half * a;
+  delta_p_ += delta_v_ * dt + 0.5 * a_world * dt2;
+  delta_v_ += a_world * dt;
+  delta_q_ = (delta_q_ * e_q).normalized();
+  delta_t_ += dt;
+  ++num_samples_;
+  return true;
+}
+
+Eigen::Quaterniond
+PreintegratedImu::CorrectedDeltaQ(const ImuBias &bias) const {
+  const Eigen::Vector3d dbg = (bias - bias_lin_).head<3>();
+  return (delta_q_ * QuaternionExp<double>(dR_dbg() * dbg)).normalized();
+}
+
+Eigen::Vector3d PreintegratedImu::CorrectedDeltaV(const ImuBias &bias) const {
+  const ImuBias db = bias - bias_lin_;
+  return delta_v_ + dv_dbg() * db.head<3>() + dv_dba() * db.tail<3>();
+}
+
+Eigen::Vector3d PreintegratedImu::CorrectedDeltaP(const ImuBias &bias) const {
+  const ImuBias db = bias - bias_lin_;
+  return delta_p_ + dp_dbg() * db.head<3>() + dp_dba() * db.tail<3>();
+}
+
+NavState PreintegratedImu::Predict(const NavState &state_i,
+                                   const ImuBias &bias) const {
+  const Eigen::Quaterniond &q_i = state_i.pose.q;
+  const double dt = delta_t_;
+  NavState out;
+  out.pose = Pose3(state_i.pose.t + state_i.velocity * dt +
+                       0.5 * gravity_ * dt * dt + q_i * CorrectedDeltaP(bias),
+                   q_i * CorrectedDeltaQ(bias));
+  out.velocity = state_i.velocity + gravity_ * dt + q_i * CorrectedDeltaV(bias);
+  return out;
+}
+
+ImuVector9 PreintegratedImu::Error(const NavState &state_i,
+                                   const ImuBias &bias_i,
+                                   const NavState &state_j) const {
+  double xi[7], xj[7];
+  Eigen::Map<Eigen::Matrix<double, 7, 1>> map_i(xi), map_j(xj);
+  map_i << state_i.pose.t, state_i.pose.q.coeffs();
+  map_j << state_j.pose.t, state_j.pose.q.coeffs();
+  return ImuError<double>(*this, xi, state_i.velocity.data(), bias_i.data(), xj,
+                          state_j.velocity.data());
+}
+
+} // namespace slam
