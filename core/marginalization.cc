@@ -1,11 +1,10 @@
 #include "core/marginalization.h"
 
+#include <Eigen/Eigenvalues>
 #include <cmath>
 #include <map>
 #include <set>
 #include <utility>
-
-#include <Eigen/Eigenvalues>
 
 namespace slam {
 namespace {
@@ -49,12 +48,11 @@ void SymmetricEigen(const Eigen::MatrixXd &a, double rank_threshold,
   const double largest = values->size() > 0 ? values->maxCoeff() : 0.0;
   const double cut = std::max(largest, 0.0) * rank_threshold;
   for (int i = 0; i < values->size(); ++i) {
-    if (!((*values)[i] > cut) || !((*values)[i] > 0.0))
-      (*values)[i] = 0.0;
+    if (!((*values)[i] > cut) || !((*values)[i] > 0.0)) (*values)[i] = 0.0;
   }
 }
 
-} // namespace
+}  // namespace
 
 int NodeTangentSize(const Node &node) {
   const int n = TangentSize(node.key.kind);
@@ -80,14 +78,11 @@ bool ComputeMarginalizationPrior(const Graph &graph,
   std::set<Key> kept;
   for (const auto &[id, factor] : graph.factors()) {
     bool touches = false;
-    for (const Key &k : factor.keys)
-      touches = touches || marg.count(k) > 0;
-    if (!touches)
-      continue;
+    for (const Key &k : factor.keys) touches = touches || marg.count(k) > 0;
+    if (!touches) continue;
     used_factors->push_back(id);
     for (const Key &k : factor.keys) {
-      if (marg.count(k) == 0)
-        kept.insert(k);
+      if (marg.count(k) == 0) kept.insert(k);
     }
   }
   // Tangent offsets: free marginalised nodes first, then kept nodes.
@@ -95,8 +90,7 @@ bool ComputeMarginalizationPrior(const Graph &graph,
   int m_size = 0;
   for (const Key &key : marg) {
     const Node *node = graph.FindNode(key);
-    if (node->fixed)
-      continue;
+    if (node->fixed) continue;
     offset[key] = m_size;
     m_size += NodeTangentSize(*node);
   }
@@ -143,15 +137,13 @@ bool ComputeMarginalizationPrior(const Graph &graph,
       block_offset.push_back(it == offset.end() ? -1 : width);
       const int t = NodeTangentSize(*graph.FindNode(key));
       if (it != offset.end()) {
-        for (int c = 0; c < t; ++c)
-          cols.push_back(it->second + c);
+        for (int c = 0; c < t; ++c) cols.push_back(it->second + c);
         width += t;
       }
     }
     Eigen::MatrixXd j = Eigen::MatrixXd::Zero(rows, width);
     for (size_t k = 0; k < factor.keys.size(); ++k) {
-      if (block_offset[k] < 0)
-        continue; // Fixed marginalised node.
+      if (block_offset[k] < 0) continue;  // Fixed marginalised node.
       const Node *node = graph.FindNode(factor.keys[k]);
       const ceres::Manifold *manifold = graph.ManifoldFor(node->key.kind);
       const int t = NodeTangentSize(*node);
@@ -163,19 +155,16 @@ bool ComputeMarginalizationPrior(const Graph &graph,
         j.middleCols(block_offset[k], t) = ambient_jacobians[k] * plus;
       }
     }
-    if (options.use_loss && factor.loss)
-      ApplyCorrector(*factor.loss, &r, &j);
+    if (options.use_loss && factor.loss) ApplyCorrector(*factor.loss, &r, &j);
     const Eigen::MatrixXd jtj = j.transpose() * j;
     const Eigen::VectorXd jtr = j.transpose() * r;
     for (int a = 0; a < width; ++a) {
       b[cols[a]] += jtr[a];
-      for (int c = 0; c < width; ++c)
-        h(cols[a], cols[c]) += jtj(a, c);
+      for (int c = 0; c < width; ++c) h(cols[a], cols[c]) += jtj(a, c);
     }
   }
 
-  if (k_size == 0)
-    return true; // Nothing kept: no prior.
+  if (k_size == 0) return true;  // Nothing kept: no prior.
   Eigen::MatrixXd h_schur = h.bottomRightCorner(k_size, k_size);
   Eigen::VectorXd b_schur = b.tail(k_size);
   if (m_size > 0) {
@@ -185,8 +174,7 @@ bool ComputeMarginalizationPrior(const Graph &graph,
                    &values, &vectors);
     Eigen::VectorXd inv = Eigen::VectorXd::Zero(values.size());
     for (int i = 0; i < values.size(); ++i) {
-      if (values[i] > 0.0)
-        inv[i] = 1.0 / values[i];
+      if (values[i] > 0.0) inv[i] = 1.0 / values[i];
     }
     const Eigen::MatrixXd h_mm_pinv =
         vectors * inv.asDiagonal() * vectors.transpose();
@@ -202,14 +190,12 @@ bool ComputeMarginalizationPrior(const Graph &graph,
   Eigen::MatrixXd vectors;
   SymmetricEigen(h_schur, options.rank_threshold, &values, &vectors);
   int rank = 0;
-  for (int i = 0; i < values.size(); ++i)
-    rank += values[i] > 0.0 ? 1 : 0;
+  for (int i = 0; i < values.size(); ++i) rank += values[i] > 0.0 ? 1 : 0;
   prior->j0.resize(rank, k_size);
   prior->r0.resize(rank);
   int row = 0;
   for (int i = 0; i < values.size(); ++i) {
-    if (!(values[i] > 0.0))
-      continue;
+    if (!(values[i] > 0.0)) continue;
     const double s = std::sqrt(values[i]);
     prior->j0.row(row) = s * vectors.col(i).transpose();
     prior->r0[row] = vectors.col(i).dot(b_schur) / s;
@@ -222,8 +208,7 @@ bool MarginalizeNodes(Graph *graph, const std::vector<Key> &marginalized,
                       const MarginalizationOptions &options,
                       const PriorFactorBuilder &builder, FactorId *prior_id,
                       std::string *error) {
-  if (prior_id != nullptr)
-    *prior_id = -1;
+  if (prior_id != nullptr) *prior_id = -1;
   LinearPrior prior;
   std::vector<FactorId> used;
   if (!ComputeMarginalizationPrior(*graph, marginalized, options, &prior, &used,
@@ -237,24 +222,20 @@ bool MarginalizeNodes(Graph *graph, const std::vector<Key> &marginalized,
       *error = "cannot marginalise: no prior factor builder given";
       return false;
     }
-    if (!builder(prior, &factor, error))
-      return false;
+    if (!builder(prior, &factor, error)) return false;
     factor.type = FactorType::kMarginalizationPrior;
   }
-  for (FactorId id : used)
-    graph->RemoveFactor(id);
-  for (const Key &key : marginalized)
-    graph->RemoveNode(key);
+  for (FactorId id : used) graph->RemoveFactor(id);
+  for (const Key &key : marginalized) graph->RemoveNode(key);
   if (add) {
     const FactorId id = graph->AddFactor(std::move(factor));
     if (id < 0) {
       *error = "cannot marginalise: the prior factor does not fit the graph";
       return false;
     }
-    if (prior_id != nullptr)
-      *prior_id = id;
+    if (prior_id != nullptr) *prior_id = id;
   }
   return true;
 }
 
-} // namespace slam
+}  // namespace slam

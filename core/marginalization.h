@@ -41,11 +41,10 @@
 #ifndef SLAM_CORE_MARGINALIZATION_H_
 #define SLAM_CORE_MARGINALIZATION_H_
 
+#include <Eigen/Core>
 #include <functional>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "core/graph.h"
 
@@ -62,13 +61,13 @@ struct MarginalizationOptions {
 
 // A dense linear prior over kept nodes: r(x) = J0 (x [-] x0) + r0.
 struct LinearPrior {
-  std::vector<Key> keys;               // Kept nodes, in key order.
-  std::vector<std::vector<double>> x0; // Their values at linearization.
-  std::vector<int> tangent_sizes;      // Tangent size of each key.
-  Eigen::MatrixXd j0;                  // rank x sum(tangent_sizes).
-  Eigen::VectorXd r0;                  // rank.
-  Eigen::MatrixXd hessian;             // H* (sum tangent)^2, for reference.
-  Eigen::VectorXd gradient;            // b*.
+  std::vector<Key> keys;                // Kept nodes, in key order.
+  std::vector<std::vector<double>> x0;  // Their values at linearization.
+  std::vector<int> tangent_sizes;       // Tangent size of each key.
+  Eigen::MatrixXd j0;                   // rank x sum(tangent_sizes).
+  Eigen::VectorXd r0;                   // rank.
+  Eigen::MatrixXd hessian;              // H* (sum tangent)^2, for reference.
+  Eigen::VectorXd gradient;             // b*.
 };
 
 // Tangent size of a node (its kind's, or its value size for Euclidean
@@ -99,6 +98,6 @@ bool MarginalizeNodes(Graph *graph, const std::vector<Key> &marginalized,
                       const PriorFactorBuilder &builder, FactorId *prior_id,
                       std::string *error);
 
-} // namespace slam
+}  // namespace slam
 
-#endif // SLAM_CORE_MARGINALIZATION_H_
+#endif  // SLAM_CORE_MARGINALIZATION_H_

@@ -19,7 +19,7 @@ double SecondsSince(std::chrono::steady_clock::time_point start) {
       .count();
 }
 
-} // namespace
+}  // namespace
 
 SlidingWindow::SlidingWindow(SlidingWindowOptions options)
     : options_(std::move(options)) {}
@@ -35,8 +35,7 @@ bool SlidingWindow::AddKeyframe(TimeNs stamp,
   Keyframe keyframe;
   keyframe.stamp = stamp;
   auto roll_back = [&]() {
-    for (const Key &key : keyframe.keys)
-      graph_.RemoveNode(key);
+    for (const Key &key : keyframe.keys) graph_.RemoveNode(key);
   };
   for (const auto &[key, value] : nodes) {
     Node *node = graph_.AddNode(key, value);
@@ -55,7 +54,7 @@ bool SlidingWindow::AddKeyframe(TimeNs stamp,
     if (graph_.AddFactor(std::move(factor)) < 0) {
       *error = std::string("keyframe factor (") + FactorTypeName(type) +
                ") references a node outside the window or has wrong sizes";
-      roll_back(); // Removes the factors added so far with the nodes.
+      roll_back();  // Removes the factors added so far with the nodes.
       return false;
     }
   }
@@ -82,8 +81,7 @@ bool SlidingWindow::Update(WindowUpdateStats *stats, std::string *error) {
     if (!ceres::StringToLinearSolverType(
             [&] {
               std::string upper = options_.linear_solver;
-              for (char &c : upper)
-                c = static_cast<char>(std::toupper(c));
+              for (char &c : upper) c = static_cast<char>(std::toupper(c));
               return upper;
             }(),
             &solver.linear_solver_type)) {
@@ -110,15 +108,13 @@ bool SlidingWindow::Update(WindowUpdateStats *stats, std::string *error) {
   local.final_chi2 = graph_.Chi2();
   if (NumKeyframes() >= std::max(options_.window_size, 2)) {
     const auto marg_start = std::chrono::steady_clock::now();
-    if (!MarginalizeOldest(error))
-      return false;
+    if (!MarginalizeOldest(error)) return false;
     local.marginalize_seconds = SecondsSince(marg_start);
     local.marginalized = true;
   }
   local.seconds = SecondsSince(start);
   update_seconds_.push_back(local.seconds);
-  if (stats != nullptr)
-    *stats = local;
+  if (stats != nullptr) *stats = local;
   return true;
 }
 
@@ -132,8 +128,7 @@ bool SlidingWindow::MarginalizeOldest(std::string *error) {
                         options_.prior_builder, nullptr, error)) {
     return false;
   }
-  for (auto &[key, value] : values)
-    final_values_[key] = std::move(value);
+  for (auto &[key, value] : values) final_values_[key] = std::move(value);
   keyframes_.pop_front();
   return true;
 }
@@ -146,8 +141,7 @@ bool SlidingWindow::Covariances(const std::vector<Key> &keys,
 
 std::vector<std::vector<Key>> SlidingWindow::WindowKeys() const {
   std::vector<std::vector<Key>> keys;
-  for (const Keyframe &k : keyframes_)
-    keys.push_back(k.keys);
+  for (const Keyframe &k : keyframes_) keys.push_back(k.keys);
   return keys;
 }
 
@@ -162,8 +156,7 @@ void SlidingWindow::Finish() {
 TimingSummary SummarizeTimes(std::vector<double> seconds) {
   TimingSummary s;
   s.count = seconds.size();
-  if (seconds.empty())
-    return s;
+  if (seconds.empty()) return s;
   std::sort(seconds.begin(), seconds.end());
   const size_t n = seconds.size();
   s.median =
@@ -171,9 +164,8 @@ TimingSummary SummarizeTimes(std::vector<double> seconds) {
   const size_t rank = static_cast<size_t>(std::ceil(0.99 * n));
   s.p99 = seconds[std::min(n - 1, rank == 0 ? 0 : rank - 1)];
   s.max = seconds.back();
-  for (double t : seconds)
-    s.total += t;
+  for (double t : seconds) s.total += t;
   return s;
 }
 
-} // namespace slam
+}  // namespace slam

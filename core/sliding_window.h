@@ -20,13 +20,12 @@
 #ifndef SLAM_CORE_SLIDING_WINDOW_H_
 #define SLAM_CORE_SLIDING_WINDOW_H_
 
+#include <Eigen/Core>
 #include <deque>
 #include <map>
 #include <string>
 #include <utility>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "core/graph.h"
 #include "core/marginalization.h"
@@ -34,7 +33,7 @@
 namespace slam {
 
 struct SlidingWindowOptions {
-  int window_size = 10; // Keyframes optimized together (>= 2).
+  int window_size = 10;  // Keyframes optimized together (>= 2).
   // Ceres settings per update: a few LM iterations warm-started from the
   // previous estimate. For ~10 keyframes of 15 dof a dense normal Cholesky
   // on the ~150x150 system is fastest.
@@ -48,21 +47,21 @@ struct SlidingWindowOptions {
   double initial_trust_region_radius = 1e12;
   int num_threads = 1;
   MarginalizationOptions marginalization;
-  PriorFactorBuilder prior_builder; // Required once the window fills.
+  PriorFactorBuilder prior_builder;  // Required once the window fills.
 };
 
 struct WindowUpdateStats {
-  double seconds = 0.0;             // Whole Update() wall time.
-  double solve_seconds = 0.0;       // Ceres part.
-  double marginalize_seconds = 0.0; // Marginalization part.
+  double seconds = 0.0;              // Whole Update() wall time.
+  double solve_seconds = 0.0;        // Ceres part.
+  double marginalize_seconds = 0.0;  // Marginalization part.
   int iterations = 0;
-  double final_chi2 = 0.0; // g2o-convention chi2 of the window after.
-  int keyframes = 0;       // Keyframes optimized.
+  double final_chi2 = 0.0;  // g2o-convention chi2 of the window after.
+  int keyframes = 0;        // Keyframes optimized.
   bool marginalized = false;
 };
 
 class SlidingWindow {
-public:
+ public:
   using NodeValue = std::pair<Key, std::vector<double>>;
 
   explicit SlidingWindow(SlidingWindowOptions options);
@@ -98,7 +97,7 @@ public:
   const std::vector<double> &update_seconds() const { return update_seconds_; }
   const SlidingWindowOptions &options() const { return options_; }
 
-private:
+ private:
   bool MarginalizeOldest(std::string *error);
 
   struct Keyframe {
@@ -122,6 +121,6 @@ struct TimingSummary {
 };
 TimingSummary SummarizeTimes(std::vector<double> seconds);
 
-} // namespace slam
+}  // namespace slam
 
-#endif // SLAM_CORE_SLIDING_WINDOW_H_
+#endif  // SLAM_CORE_SLIDING_WINDOW_H_

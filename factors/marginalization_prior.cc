@@ -14,16 +14,16 @@ const ceres::Manifold *KindManifold(NodeKind kind) {
   static const SE2Manifold *se2 = new SE2Manifold;
   static const SE3Manifold *se3 = new SE3Manifold;
   switch (kind) {
-  case NodeKind::kPose2:
-    return se2;
-  case NodeKind::kPose3:
-    return se3;
-  default:
-    return nullptr;
+    case NodeKind::kPose2:
+      return se2;
+    case NodeKind::kPose3:
+      return se3;
+    default:
+      return nullptr;
   }
 }
 
-} // namespace
+}  // namespace
 
 MarginalizationPriorCost::MarginalizationPriorCost(const LinearPrior &prior)
     : prior_(prior) {
@@ -57,11 +57,9 @@ bool MarginalizationPriorCost::Evaluate(double const *const *parameters,
   }
   Eigen::Map<Eigen::VectorXd> r(residuals, rows);
   r = prior_.j0 * delta + prior_.r0;
-  if (jacobians == nullptr)
-    return true;
+  if (jacobians == nullptr) return true;
   for (size_t k = 0; k < prior_.keys.size(); ++k) {
-    if (jacobians[k] == nullptr)
-      continue;
+    if (jacobians[k] == nullptr) continue;
     const int t = prior_.tangent_sizes[k];
     const int ambient = static_cast<int>(prior_.x0[k].size());
     Eigen::Map<RowMajorMatrix> jac(jacobians[k], rows, ambient);
@@ -107,8 +105,7 @@ bool MakeMarginalizationPrior(const LinearPrior &prior, Factor *factor,
     return false;
   }
   int cols = 0;
-  for (int t : prior.tangent_sizes)
-    cols += t;
+  for (int t : prior.tangent_sizes) cols += t;
   if (prior.j0.cols() != cols || prior.r0.size() != prior.j0.rows() ||
       prior.x0.size() != prior.keys.size()) {
     *error = "marginalization prior: inconsistent sizes";
@@ -123,4 +120,4 @@ bool MakeMarginalizationPrior(const LinearPrior &prior, Factor *factor,
   return true;
 }
 
-} // namespace slam
+}  // namespace slam

@@ -20,10 +20,9 @@
 #ifndef SLAM_FACTORS_MARGINALIZATION_PRIOR_H_
 #define SLAM_FACTORS_MARGINALIZATION_PRIOR_H_
 
+#include <Eigen/Core>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "ceres/cost_function.h"
 #include "ceres/manifold.h"
@@ -33,7 +32,7 @@
 namespace slam {
 
 class MarginalizationPriorCost : public ceres::CostFunction {
-public:
+ public:
   // The manifolds are the node kinds' (nullptr: Euclidean); this object
   // keeps its own instances.
   explicit MarginalizationPriorCost(const LinearPrior &prior);
@@ -47,10 +46,10 @@ public:
     return new MarginalizationPriorCost(prior);
   }
 
-private:
+ private:
   LinearPrior prior_;
   std::vector<const ceres::Manifold *> manifolds_;
-  std::vector<int> offsets_; // Tangent column offset of each block in J0.
+  std::vector<int> offsets_;  // Tangent column offset of each block in J0.
 };
 
 // PriorFactorBuilder for MarginalizeNodes / the sliding window: a Factor of
@@ -59,6 +58,6 @@ private:
 bool MakeMarginalizationPrior(const LinearPrior &prior, Factor *factor,
                               std::string *error);
 
-} // namespace slam
+}  // namespace slam
 
-#endif // SLAM_FACTORS_MARGINALIZATION_PRIOR_H_
+#endif  // SLAM_FACTORS_MARGINALIZATION_PRIOR_H_

@@ -9,25 +9,25 @@
 //     with the manifolds), away from the linearization point;
 //   * FEJ: J0 and x0 stay fixed while the values move;
 //   * robust kernels enter the linearization as Ceres' corrector does.
+#include "core/marginalization.h"
+
+#include <Eigen/Core>
 #include <cmath>
 #include <map>
 #include <memory>
 #include <string>
 #include <vector>
 
-#include <Eigen/Core>
-
 #include "ceres/ceres.h"
 #include "ceres/gradient_checker.h"
 #include "core/graph.h"
 #include "core/manifolds.h"
-#include "core/marginalization.h"
 #include "core/marginals.h"
 #include "core/optimizer.h"
 #include "factors/marginalization_prior.h"
 #include "factors/pose_factors.h"
-#include "tests/test_random.h"
 #include "gtest/gtest.h"
+#include "tests/test_random.h"
 
 namespace slam {
 namespace {
@@ -36,7 +36,7 @@ using testing::TestRng;
 
 // r = sum_k A_k x_k - z over Euclidean blocks: a linear factor.
 class LinearCost : public ceres::CostFunction {
-public:
+ public:
   LinearCost(std::vector<Eigen::MatrixXd> a, Eigen::VectorXd z)
       : a_(std::move(a)), z_(std::move(z)) {
     set_num_residuals(static_cast<int>(z_.size()));
@@ -59,7 +59,7 @@ public:
     return true;
   }
 
-private:
+ private:
   std::vector<Eigen::MatrixXd> a_;
   Eigen::VectorXd z_;
 };
@@ -67,16 +67,14 @@ private:
 Eigen::MatrixXd RandomMatrix(TestRng *rng, int rows, int cols) {
   Eigen::MatrixXd m(rows, cols);
   for (int r = 0; r < rows; ++r) {
-    for (int c = 0; c < cols; ++c)
-      m(r, c) = rng->Normal();
+    for (int c = 0; c < cols; ++c) m(r, c) = rng->Normal();
   }
   return m;
 }
 
 void AddLinear(Graph *graph, const std::vector<Key> &keys, TestRng *rng) {
   std::vector<Eigen::MatrixXd> a;
-  for (size_t k = 0; k < keys.size(); ++k)
-    a.push_back(RandomMatrix(rng, 3, 3));
+  for (size_t k = 0; k < keys.size(); ++k) a.push_back(RandomMatrix(rng, 3, 3));
   Eigen::VectorXd z(3);
   z << rng->Normal(), rng->Normal(), rng->Normal();
   Factor f;
@@ -118,8 +116,7 @@ TEST(MarginalizationTest, LinearProblemMatchesFullEstimateAndCovariance) {
     BuildLinearChain(&window, kN, seed);
     Optimize(&full, Quiet(), nullptr);
     std::vector<Key> kept;
-    for (int i = 3; i < kN; ++i)
-      kept.push_back(Point3Key(i));
+    for (int i = 3; i < kN; ++i) kept.push_back(Point3Key(i));
     std::map<Key, Eigen::MatrixXd> cov_full, cov_window;
     std::string error;
     ASSERT_TRUE(ComputeMarginals(&full, kept, &cov_full, &error)) << error;
@@ -167,9 +164,9 @@ void BuildPoseGraph(Graph *graph, int n, unsigned seed, double noise = 0.05) {
                                         0.05 * rng.Normal3()));
   }
   auto noisy = [&](const Pose3 &p, double s) {
-    return Pose3(p.t + s * rng.Normal3(),
-                 p.q *
-                     QuaternionExp<double>(Eigen::Vector3d(s * rng.Normal3())));
+    return Pose3(
+        p.t + s * rng.Normal3(),
+        p.q * QuaternionExp<double>(Eigen::Vector3d(s * rng.Normal3())));
   };
   for (int i = 0; i < n; ++i) {
     graph->AddNode(Pose3Key(i), Pose3Value(noisy(truth[i], 0.1)));
@@ -216,10 +213,8 @@ TEST(MarginalizationTest, NonlinearPoseGraphMatchesBatch) {
   BuildPoseGraph(&full, kN, 3);
   Optimize(&full, Quiet(), nullptr);
   std::vector<Key> marg, kept;
-  for (int i = 0; i < 5; ++i)
-    marg.push_back(Pose3Key(i));
-  for (int i = 5; i < kN; ++i)
-    kept.push_back(Pose3Key(i));
+  for (int i = 0; i < 5; ++i) marg.push_back(Pose3Key(i));
+  for (int i = 5; i < kN; ++i) kept.push_back(Pose3Key(i));
   std::map<Key, Eigen::MatrixXd> cov_full;
   std::string error;
   ASSERT_TRUE(ComputeMarginals(&full, kept, &cov_full, &error)) << error;
@@ -261,8 +256,7 @@ TEST(MarginalizationTest, NonlinearPoseGraphMatchesBatch) {
       const SE3Manifold se3;
       for (const auto &[key, node] : batch.nodes()) {
         Eigen::Matrix<double, 6, 1> d;
-        for (int c = 0; c < 6; ++c)
-          d[c] = s * rng.Normal();
+        for (int c = 0; c < 6; ++c) d[c] = s * rng.Normal();
         se3.Plus(node->value.data(), d.data(),
                  window.FindNode(key)->value.data());
       }
@@ -318,7 +312,7 @@ TEST(MarginalizationPriorTest, JacobiansMatchNumericInTangentSpace) {
   for (unsigned seed = 1; seed <= 10; ++seed) {
     const LinearPrior prior = PriorOverPoseAndPoint(seed);
     ASSERT_EQ(prior.keys.size(), 2u);
-    ASSERT_EQ(prior.keys[0], Pose3Key(1)); // Key order: pose3 before point3.
+    ASSERT_EQ(prior.keys[0], Pose3Key(1));  // Key order: pose3 before point3.
     ASSERT_EQ(prior.j0.rows(), 9);
     std::unique_ptr<ceres::CostFunction> cost(
         MarginalizationPriorCost::Create(prior));
@@ -326,11 +320,9 @@ TEST(MarginalizationPriorTest, JacobiansMatchNumericInTangentSpace) {
     // Away from x0: a pose moved by up to ~0.5 rad, a point by ~1.
     std::vector<double> pose(7), point(3);
     Eigen::Matrix<double, 6, 1> d;
-    for (int c = 0; c < 6; ++c)
-      d[c] = 0.3 * rng.Normal();
+    for (int c = 0; c < 6; ++c) d[c] = 0.3 * rng.Normal();
     se3.Plus(prior.x0[0].data(), d.data(), pose.data());
-    for (int c = 0; c < 3; ++c)
-      point[c] = prior.x0[1][c] + rng.Normal();
+    for (int c = 0; c < 3; ++c) point[c] = prior.x0[1][c] + rng.Normal();
     ceres::NumericDiffOptions numeric;
     ceres::GradientChecker checker(cost.get(), &manifolds, numeric);
     ceres::GradientChecker::ProbeResults results;
@@ -366,8 +358,7 @@ TEST(MarginalizationPriorTest, FirstEstimateJacobiansStayFixed) {
   Optimize(&window, Quiet(), nullptr);
   TestRng rng(4);
   for (const auto &[key, node] : window.nodes()) {
-    for (double &v : node->value)
-      v += rng.Normal();
+    for (double &v : node->value) v += rng.Normal();
   }
   const LinearPrior &after = cost->prior();
   EXPECT_EQ((after.j0 - before.j0).norm(), 0.0);
@@ -431,7 +422,7 @@ TEST(MarginalizationTest, RobustKernelUsesCeresCorrector) {
       j(row, jacobian.cols[k]) = jacobian.values[k];
     }
   }
-  const Eigen::MatrixXd h = j.transpose() * j; // Blocks: x0 then x1.
+  const Eigen::MatrixXd h = j.transpose() * j;  // Blocks: x0 then x1.
   const Eigen::Map<Eigen::VectorXd> g(gradient.data(), 6);
   const Eigen::MatrixXd expected =
       h.bottomRightCorner(3, 3) - h.bottomLeftCorner(3, 3) *
@@ -460,8 +451,8 @@ TEST(MarginalizationTest, RejectsUnknownKeysAndNeedsABuilder) {
   EXPECT_FALSE(MarginalizeNodes(&graph, {Point3Key(0)},
                                 MarginalizationOptions(), nullptr, nullptr,
                                 &error));
-  EXPECT_EQ(graph.NumNodes(), 4u); // Unchanged on failure.
+  EXPECT_EQ(graph.NumNodes(), 4u);  // Unchanged on failure.
 }
 
-} // namespace
-} // namespace slam
+}  // namespace
+}  // namespace slam
