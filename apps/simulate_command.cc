@@ -11,6 +11,13 @@
 //                          .g2o files (an outliers.txt left by an earlier run
 //                          without outliers is removed)
 //
+// World type inertial (datasets/inertial_simulator.h) writes instead an
+// EuRoC-format folder (datasets/imu_io.h):
+//   DIR/mav0/imu0/data.csv                        IMU readings
+//   DIR/mav0/state_groundtruth_estimate0/data.csv ground truth p, q, v, biases
+//   DIR/mav0/leica0/data.csv                      position fixes (if any)
+//   DIR/ground_truth.tum                          the true trajectory
+//
 // Settings: defaults < --config FILE (the `simulate:` section, see
 // apps/simulate_config.h and configs/simulate_*.yaml) < explicit flags.
 // --dump_config prints the effective settings as YAML and exits.
@@ -29,6 +36,8 @@
 #include "apps/simulate_config.h"
 #include "datasets/atomic_file.h"
 #include "datasets/g2o_io.h"
+#include "datasets/imu_io.h"
+#include "datasets/inertial_simulator.h"
 #include "datasets/simulator.h"
 #include "datasets/trajectory_io.h"
 
@@ -36,7 +45,7 @@
 DECLARE_string(o);
 
 DEFINE_string(world, ::slam::SimulationConfig().world.type.c_str(),
-              "simulate: world type, grid2d | grid3d | sphere3d");
+              "simulate: world type, grid2d | grid3d | sphere3d | inertial");
 DEFINE_int32(num_poses, ::slam::SimulationConfig().world.num_poses,
              "simulate: number of poses");
 DEFINE_uint64(seed, ::slam::SimulationConfig().seed,
@@ -124,6 +133,55 @@ int Fail(const std::string& message, int code = 1) {
   return code;
 }
 
+// Creates the output directory (and its parents) if needed.
+bool MakeOutputDirectory(const std::string& path, std::string* error) {
+  std::error_code ec;
+  std::filesystem::create_directories(path, ec);
+  if (ec || !std::filesystem::is_directory(path)) {
+    *error = path + ": cannot create the output directory" +
+             (ec ? " (" + ec.message() + ")" : std::string());
+    return false;
+  }
+  return true;
+}
+
+// World type inertial: IMU + position fixes into an EuRoC folder.
+int RunInertialSimulation(const SimulationConfig& config,
+                          const std::string& out_dir) {
+  InertialSimulationConfig inertial = config.inertial;
+  inertial.seed = config.seed;
+  InertialData data;
+  std::string error;
+  if (!SimulateInertial(inertial, &data, &error)) return Fail(error);
+  const std::filesystem::path dir(out_dir);
+  if (!MakeOutputDirectory(out_dir, &error)) return Fail(error);
+  Trajectory truth;
+  truth.reserve(data.ground_truth.size());
+  for (const InertialGroundTruth& g : data.ground_truth) {
+    truth.push_back({g.stamp, g.pose});
+  }
+  const std::string tum_path = (dir / "ground_truth.tum").string();
+  if (!WriteEurocInertial(out_dir, data, &error) ||
+      !WriteTrajectory(tum_path, truth, TrajectoryFormat::kTum, &error)) {
+    return Fail(error);
+  }
+  const ImuNoise& n = inertial.noise;
+  std::printf("simulated inertial world (seed %llu): %.6g s, %zu IMU samples "
+              "at %g Hz, %zu position fixes at %g Hz\n",
+              static_cast<unsigned long long>(config.seed), inertial.duration,
+              data.imu.size(), inertial.imu_rate, data.positions.size(),
+              inertial.position_rate);
+  std::printf("IMU noise densities: gyro %g rad/s/sqrt(Hz), accel %g "
+              "m/s^2/sqrt(Hz); bias random walks: gyro %g rad/s^2/sqrt(Hz), "
+              "accel %g m/s^3/sqrt(Hz); position sigma %g m\n",
+              n.gyro_noise_density, n.accel_noise_density, n.gyro_random_walk,
+              n.accel_random_walk, inertial.position_sigma);
+  std::printf("wrote %s/mav0 (imu0, state_groundtruth_estimate0%s) and %s\n",
+              out_dir.c_str(), data.positions.empty() ? "" : ", leica0",
+              tum_path.c_str());
+  return 0;
+}
+
 }  // namespace
 
 int RunSimulateCommand(const std::vector<std::string>& args) {
@@ -145,17 +203,17 @@ int RunSimulateCommand(const std::vector<std::string>& args) {
     return Fail("no output directory; usage: slam simulate -o DIR", 2);
   }
 
+  if (config.world.type == "inertial") {
+    return RunInertialSimulation(config, FLAGS_o);
+  }
+
   SimulationResult result;
   if (!Simulate(config, &result, &error)) return Fail(error);
 
   // Write.
   const std::filesystem::path dir(FLAGS_o);
+  if (!MakeOutputDirectory(FLAGS_o, &error)) return Fail(error);
   std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  if (ec || !std::filesystem::is_directory(dir)) {
-    return Fail(FLAGS_o + ": cannot create the output directory" +
-                (ec ? " (" + ec.message() + ")" : std::string()));
-  }
   const std::string graph_path = (dir / "graph.g2o").string();
   const std::string truth_path = (dir / "ground_truth.g2o").string();
   const std::string tum_path = (dir / "ground_truth.tum").string();

@@ -7,6 +7,8 @@
 #include <sstream>
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "apps/yaml_config.h"
 
 namespace slam {
@@ -18,6 +20,80 @@ bool ReadNoise(const YAML::Node& node, const std::string& where,
                       &noise->sigma_translation, error) &&
          ReadOptional(node, "sigma_rotation", where, &noise->sigma_rotation,
                       error);
+}
+
+// node[key] as a 3-vector [x, y, z] when present.
+bool ReadVector3(const YAML::Node& node, const char* key,
+                 const std::string& where, Eigen::Vector3d* value,
+                 std::string* error) {
+  std::vector<double> v;
+  if (!ReadOptional(node, key, where, &v, error)) return false;
+  if (!node[key]) return true;
+  if (v.size() != 3) {
+    *error = where + ": key '" + key + "' (line " +
+             std::to_string(node[key].Mark().line + 1) +
+             ") needs three numbers [x, y, z]";
+    return false;
+  }
+  *value = Eigen::Vector3d(v[0], v[1], v[2]);
+  return true;
+}
+
+// The `inertial:` sub-section (world type inertial).
+bool ReadInertial(const YAML::Node& node, const std::string& where,
+                  InertialSimulationConfig* c, std::string* error) {
+  if (!CheckKnownKeys(node,
+                      {"duration", "imu_rate", "position_rate",
+                       "position_sigma", "lever_arm", "gravity",
+                       "gyro_noise_density", "accel_noise_density",
+                       "gyro_random_walk", "accel_random_walk",
+                       "initial_gyro_bias", "initial_accel_bias",
+                       "trajectory"},
+                      where, error) ||
+      !ReadOptional(node, "duration", where, &c->duration, error) ||
+      !ReadOptional(node, "imu_rate", where, &c->imu_rate, error) ||
+      !ReadOptional(node, "position_rate", where, &c->position_rate, error) ||
+      !ReadOptional(node, "position_sigma", where, &c->position_sigma,
+                    error) ||
+      !ReadVector3(node, "lever_arm", where, &c->lever_arm, error) ||
+      !ReadVector3(node, "gravity", where, &c->gravity, error) ||
+      !ReadOptional(node, "gyro_noise_density", where,
+                    &c->noise.gyro_noise_density, error) ||
+      !ReadOptional(node, "accel_noise_density", where,
+                    &c->noise.accel_noise_density, error) ||
+      !ReadOptional(node, "gyro_random_walk", where,
+                    &c->noise.gyro_random_walk, error) ||
+      !ReadOptional(node, "accel_random_walk", where,
+                    &c->noise.accel_random_walk, error) ||
+      !ReadVector3(node, "initial_gyro_bias", where, &c->initial_gyro_bias,
+                   error) ||
+      !ReadVector3(node, "initial_accel_bias", where, &c->initial_accel_bias,
+                   error)) {
+    return false;
+  }
+  const YAML::Node t = node["trajectory"];
+  if (!t || t.IsNull()) return true;
+  LissajousParams& p = c->trajectory;
+  return CheckKnownKeys(t,
+                        {"center", "amplitude", "frequency", "phase",
+                         "yaw_rate", "yaw_amplitude", "yaw_frequency",
+                         "pitch_amplitude", "pitch_frequency",
+                         "roll_amplitude", "roll_frequency", "roll_phase"},
+                        where, error) &&
+         ReadVector3(t, "center", where, &p.center, error) &&
+         ReadVector3(t, "amplitude", where, &p.amplitude, error) &&
+         ReadVector3(t, "frequency", where, &p.frequency, error) &&
+         ReadVector3(t, "phase", where, &p.phase, error) &&
+         ReadOptional(t, "yaw_rate", where, &p.yaw_rate, error) &&
+         ReadOptional(t, "yaw_amplitude", where, &p.yaw_amplitude, error) &&
+         ReadOptional(t, "yaw_frequency", where, &p.yaw_frequency, error) &&
+         ReadOptional(t, "pitch_amplitude", where, &p.pitch_amplitude,
+                      error) &&
+         ReadOptional(t, "pitch_frequency", where, &p.pitch_frequency,
+                      error) &&
+         ReadOptional(t, "roll_amplitude", where, &p.roll_amplitude, error) &&
+         ReadOptional(t, "roll_frequency", where, &p.roll_frequency, error) &&
+         ReadOptional(t, "roll_phase", where, &p.roll_phase, error);
 }
 
 // Shortest text that reads back as exactly `value`, with a decimal point so
@@ -50,6 +126,13 @@ class YamlWriter {
              const std::string& comment = "") {
     Line(indent, key + ": " + FormatDouble(value), comment);
   }
+  void Value(int indent, const std::string& key, const Eigen::Vector3d& value,
+             const std::string& comment = "") {
+    Line(indent,
+         key + ": [" + FormatDouble(value.x()) + ", " +
+             FormatDouble(value.y()) + ", " + FormatDouble(value.z()) + "]",
+         comment);
+  }
   std::string str() const { return out_.str(); }
 
  private:
@@ -74,7 +157,9 @@ bool SimulationConfigFromYaml(const YAML::Node& root, const std::string& where,
   if (!CheckTopLevelSections(root, where, error)) return false;
   const YAML::Node node = root["simulate"];
   if (!node || node.IsNull()) return true;
-  if (!CheckKnownKeys(node, {"seed", "world", "odometry", "loop_closures"},
+  if (!CheckKnownKeys(node,
+                      {"seed", "world", "odometry", "loop_closures",
+                       "inertial"},
                       where, error) ||
       !ReadOptional(node, "seed", where, &config->seed, error)) {
     return false;
@@ -127,6 +212,11 @@ bool SimulationConfigFromYaml(const YAML::Node& root, const std::string& where,
       return false;
     }
   }
+  const YAML::Node inertial = node["inertial"];
+  if (inertial && !inertial.IsNull() &&
+      !ReadInertial(inertial, where, &config->inertial, error)) {
+    return false;
+  }
   return true;
 }
 
@@ -151,7 +241,7 @@ std::string SimulationConfigToYaml(const SimulationConfig& config) {
   out.Section(0, "simulate");
   out.Value(2, "seed", config.seed);
   out.Section(2, "world");
-  out.Value(4, "type", w.type, "grid2d | grid3d | sphere3d");
+  out.Value(4, "type", w.type, "grid2d | grid3d | sphere3d | inertial");
   out.Value(4, "num_poses", w.num_poses);
   out.Value(4, "step", w.step, "grid worlds: lattice spacing [m]");
   out.Value(4, "grid_size", w.grid_size,
@@ -181,6 +271,38 @@ std::string SimulationConfigToYaml(const SimulationConfig& config) {
             "share of wrong loop closures, [0, 1)");
   out.Value(4, "outlier_max_translation", lc.outlier_max_translation,
             "outliers: translation range [m]");
+  const InertialSimulationConfig& in = config.inertial;
+  out.Section(2, "inertial", "world type inertial");
+  out.Value(4, "duration", in.duration, "[s]");
+  out.Value(4, "imu_rate", in.imu_rate, "[Hz]");
+  out.Value(4, "position_rate", in.position_rate, "[Hz], 0: no fixes");
+  out.Value(4, "position_sigma", in.position_sigma, "[m] per axis");
+  out.Value(4, "lever_arm", in.lever_arm, "antenna in the body frame [m]");
+  out.Value(4, "gravity", in.gravity, "[m/s^2], world frame");
+  out.Value(4, "gyro_noise_density", in.noise.gyro_noise_density,
+            "[rad/s/sqrt(Hz)]");
+  out.Value(4, "accel_noise_density", in.noise.accel_noise_density,
+            "[m/s^2/sqrt(Hz)]");
+  out.Value(4, "gyro_random_walk", in.noise.gyro_random_walk,
+            "[rad/s^2/sqrt(Hz)]");
+  out.Value(4, "accel_random_walk", in.noise.accel_random_walk,
+            "[m/s^3/sqrt(Hz)]");
+  out.Value(4, "initial_gyro_bias", in.initial_gyro_bias, "[rad/s]");
+  out.Value(4, "initial_accel_bias", in.initial_accel_bias, "[m/s^2]");
+  const LissajousParams& p = in.trajectory;
+  out.Section(4, "trajectory", "p = center + amplitude .* sin(f t + phase)");
+  out.Value(6, "center", p.center, "[m]");
+  out.Value(6, "amplitude", p.amplitude, "[m]");
+  out.Value(6, "frequency", p.frequency, "[rad/s]");
+  out.Value(6, "phase", p.phase, "[rad]");
+  out.Value(6, "yaw_rate", p.yaw_rate, "[rad/s]");
+  out.Value(6, "yaw_amplitude", p.yaw_amplitude, "[rad]");
+  out.Value(6, "yaw_frequency", p.yaw_frequency, "[rad/s]");
+  out.Value(6, "pitch_amplitude", p.pitch_amplitude, "[rad]");
+  out.Value(6, "pitch_frequency", p.pitch_frequency, "[rad/s]");
+  out.Value(6, "roll_amplitude", p.roll_amplitude, "[rad]");
+  out.Value(6, "roll_frequency", p.roll_frequency, "[rad/s]");
+  out.Value(6, "roll_phase", p.roll_phase, "[rad]");
   return out.str();
 }
 

@@ -5,7 +5,7 @@
 //   simulate:
 //     seed: 1
 //     world:
-//       type: grid2d            # grid2d | grid3d | sphere3d
+//       type: grid2d            # grid2d | grid3d | sphere3d | inertial
 //       num_poses: 500
 //       step: 1.0               # grid worlds: lattice spacing [m]
 //       grid_size: 10           # grid worlds: lattice points per side
@@ -24,6 +24,24 @@
 //       min_index_gap: 5        # no closures to the last few poses
 //       outlier_fraction: 0.0   # share of wrong loop closures
 //       outlier_max_translation: 10.0  # [m]
+//     inertial:                 # world type inertial (IMU + position fixes)
+//       duration: 60.0          # [s]
+//       imu_rate: 200.0         # [Hz]
+//       position_rate: 1.0      # [Hz], 0: no fixes
+//       position_sigma: 0.1     # [m] per axis
+//       lever_arm: [0, 0, 0]    # antenna in the body frame [m]
+//       gravity: [0, 0, -9.81]
+//       gyro_noise_density: 1.6968e-4   # ADIS16448 (EuRoC) defaults
+//       accel_noise_density: 2.0e-3
+//       gyro_random_walk: 1.9393e-5
+//       accel_random_walk: 3.0e-3
+//       initial_gyro_bias: [0.002, -0.001, 0.0015]
+//       initial_accel_bias: [0.03, -0.02, 0.05]
+//       trajectory:             # datasets/inertial_trajectory.h
+//         center: [0, 0, 2]
+//         amplitude: [10, 5, 1]
+//         frequency: [0.25, 0.5, 0.3]
+//         ...                   # phase, yaw_*, pitch_*, roll_*
 //
 // Every key is optional (missing keys keep their current value); unknown
 // keys and values of the wrong type are errors naming the file and line.

@@ -1,5 +1,6 @@
 #include "core/imu_preintegration.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace slam {
@@ -7,7 +8,7 @@ namespace {
 
 bool PositiveFinite(double x) { return std::isfinite(x) && x > 0.0; }
 
-} // namespace
+}  // namespace
 
 bool ImuNoise::IsValid() const {
   return PositiveFinite(gyro_noise_density) &&
@@ -15,7 +16,7 @@ bool ImuNoise::IsValid() const {
          PositiveFinite(gyro_random_walk) && PositiveFinite(accel_random_walk);
 }
 
-Eigen::Matrix3d RightJacobianSO3(const Eigen::Vector3d &phi) {
+Eigen::Matrix3d RightJacobianSO3(const Eigen::Vector3d& phi) {
   const double theta_sq = phi.squaredNorm();
   const Eigen::Matrix3d k = Skew<double>(phi);
   if (theta_sq < 1e-10) {
@@ -26,9 +27,22 @@ Eigen::Matrix3d RightJacobianSO3(const Eigen::Vector3d &phi) {
          (theta - std::sin(theta)) / (theta_sq * theta) * k * k;
 }
 
-PreintegratedImu::PreintegratedImu(const ImuNoise &noise,
-                                   const ImuBias &bias_lin,
-                                   const Eigen::Vector3d &gravity)
+Eigen::Matrix3d RightJacobianInverseSO3(const Eigen::Vector3d& phi) {
+  const double theta_sq = phi.squaredNorm();
+  const Eigen::Matrix3d k = Skew<double>(phi);
+  if (theta_sq < 1e-10) {
+    return Eigen::Matrix3d::Identity() + 0.5 * k + k * k / 12.0;
+  }
+  const double theta = std::sqrt(theta_sq);
+  return Eigen::Matrix3d::Identity() + 0.5 * k +
+         (1.0 / theta_sq -
+          (1.0 + std::cos(theta)) / (2.0 * theta * std::sin(theta))) *
+             k * k;
+}
+
+PreintegratedImu::PreintegratedImu(const ImuNoise& noise,
+                                   const ImuBias& bias_lin,
+                                   const Eigen::Vector3d& gravity)
     : noise_(noise), bias_lin_(bias_lin), gravity_(gravity) {
   Reset();
 }
@@ -43,13 +57,13 @@ void PreintegratedImu::Reset() {
   bias_jacobian_.setZero();
 }
 
-void PreintegratedImu::Reset(const ImuBias &bias_lin) {
+void PreintegratedImu::Reset(const ImuBias& bias_lin) {
   bias_lin_ = bias_lin;
   Reset();
 }
 
-bool PreintegratedImu::Integrate(const Eigen::Vector3d &accel,
-                                 const Eigen::Vector3d &gyro, double dt) {
+bool PreintegratedImu::Integrate(const Eigen::Vector3d& accel,
+                                 const Eigen::Vector3d& gyro, double dt) {
   if (!(dt > 0.0) || !std::isfinite(dt) || !accel.allFinite() ||
       !gyro.allFinite()) {
     return false;
@@ -102,25 +116,25 @@ bool PreintegratedImu::Integrate(const Eigen::Vector3d &accel,
   return true;
 }
 
-Eigen::Quaterniond
-PreintegratedImu::CorrectedDeltaQ(const ImuBias &bias) const {
+Eigen::Quaterniond PreintegratedImu::CorrectedDeltaQ(
+    const ImuBias& bias) const {
   const Eigen::Vector3d dbg = (bias - bias_lin_).head<3>();
   return (delta_q_ * QuaternionExp<double>(dR_dbg() * dbg)).normalized();
 }
 
-Eigen::Vector3d PreintegratedImu::CorrectedDeltaV(const ImuBias &bias) const {
+Eigen::Vector3d PreintegratedImu::CorrectedDeltaV(const ImuBias& bias) const {
   const ImuBias db = bias - bias_lin_;
   return delta_v_ + dv_dbg() * db.head<3>() + dv_dba() * db.tail<3>();
 }
 
-Eigen::Vector3d PreintegratedImu::CorrectedDeltaP(const ImuBias &bias) const {
+Eigen::Vector3d PreintegratedImu::CorrectedDeltaP(const ImuBias& bias) const {
   const ImuBias db = bias - bias_lin_;
   return delta_p_ + dp_dbg() * db.head<3>() + dp_dba() * db.tail<3>();
 }
 
-NavState PreintegratedImu::Predict(const NavState &state_i,
-                                   const ImuBias &bias) const {
-  const Eigen::Quaterniond &q_i = state_i.pose.q;
+NavState PreintegratedImu::Predict(const NavState& state_i,
+                                   const ImuBias& bias) const {
+  const Eigen::Quaterniond& q_i = state_i.pose.q;
   const double dt = delta_t_;
   NavState out;
   out.pose = Pose3(state_i.pose.t + state_i.velocity * dt +
@@ -130,9 +144,9 @@ NavState PreintegratedImu::Predict(const NavState &state_i,
   return out;
 }
 
-ImuVector9 PreintegratedImu::Error(const NavState &state_i,
-                                   const ImuBias &bias_i,
-                                   const NavState &state_j) const {
+ImuVector9 PreintegratedImu::Error(const NavState& state_i,
+                                   const ImuBias& bias_i,
+                                   const NavState& state_j) const {
   double xi[7], xj[7];
   Eigen::Map<Eigen::Matrix<double, 7, 1>> map_i(xi), map_j(xj);
   map_i << state_i.pose.t, state_i.pose.q.coeffs();
@@ -141,4 +155,61 @@ ImuVector9 PreintegratedImu::Error(const NavState &state_i,
                           state_j.velocity.data());
 }
 
-} // namespace slam
+namespace {
+
+// Reading at time t, linearly interpolated between the samples around it
+// (held constant outside the sample range).
+void InterpolatedReading(const std::vector<ImuSample>& samples, TimeNs t,
+                         Eigen::Vector3d* accel, Eigen::Vector3d* gyro) {
+  const auto it = std::upper_bound(
+      samples.begin(), samples.end(), t,
+      [](TimeNs s, const ImuSample& sample) { return s < sample.stamp; });
+  if (it == samples.begin()) {
+    *accel = it->accel;
+    *gyro = it->gyro;
+    return;
+  }
+  if (it == samples.end()) {
+    *accel = samples.back().accel;
+    *gyro = samples.back().gyro;
+    return;
+  }
+  const ImuSample& a = *(it - 1);
+  const ImuSample& b = *it;
+  const double u =
+      static_cast<double>(t - a.stamp) / static_cast<double>(b.stamp - a.stamp);
+  *accel = (1.0 - u) * a.accel + u * b.accel;
+  *gyro = (1.0 - u) * a.gyro + u * b.gyro;
+}
+
+}  // namespace
+
+bool IntegrateImuSamples(const std::vector<ImuSample>& samples, TimeNs t_begin,
+                         TimeNs t_end, PreintegratedImu* pim) {
+  if (t_end <= t_begin || samples.empty()) return false;
+  // Cut points: t_begin, the sample stamps strictly inside, t_end.
+  std::vector<TimeNs> cuts = {t_begin};
+  auto it = std::upper_bound(
+      samples.begin(), samples.end(), t_begin,
+      [](TimeNs s, const ImuSample& sample) { return s < sample.stamp; });
+  for (; it != samples.end() && it->stamp < t_end; ++it) {
+    cuts.push_back(it->stamp);
+  }
+  cuts.push_back(t_end);
+  PreintegratedImu result = *pim;
+  Eigen::Vector3d a0, g0, a1, g1;
+  InterpolatedReading(samples, cuts[0], &a0, &g0);
+  for (size_t k = 1; k < cuts.size(); ++k) {
+    InterpolatedReading(samples, cuts[k], &a1, &g1);
+    if (!result.Integrate(0.5 * (a0 + a1), 0.5 * (g0 + g1),
+                          NsToSeconds(cuts[k] - cuts[k - 1]))) {
+      return false;
+    }
+    a0 = a1;
+    g0 = g1;
+  }
+  *pim = result;
+  return true;
+}
+
+}  // namespace slam

@@ -57,7 +57,9 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <vector>
 
+#include "core/conventions.h"
 #include "core/lie.h"
 
 namespace slam {
@@ -70,10 +72,10 @@ using ImuMatrix96 = Eigen::Matrix<double, 9, 6>;
 
 // Continuous-time IMU noise in datasheet / Kalibr units.
 struct ImuNoise {
-  double gyro_noise_density = 1.6968e-4; // rad/s/sqrt(Hz)
-  double accel_noise_density = 2.0e-3;   // m/s^2/sqrt(Hz)
-  double gyro_random_walk = 1.9393e-5;   // rad/s^2/sqrt(Hz)
-  double accel_random_walk = 3.0e-3;     // m/s^3/sqrt(Hz)
+  double gyro_noise_density = 1.6968e-4;  // rad/s/sqrt(Hz)
+  double accel_noise_density = 2.0e-3;    // m/s^2/sqrt(Hz)
+  double gyro_random_walk = 1.9393e-5;    // rad/s^2/sqrt(Hz)
+  double accel_random_walk = 3.0e-3;      // m/s^3/sqrt(Hz)
 
   // ADIS16448 as in the EuRoC MAV dataset sensor.yaml (the defaults above).
   static ImuNoise Adis16448() { return ImuNoise(); }
@@ -91,57 +93,57 @@ struct NavState {
 };
 
 class PreintegratedImu {
-public:
+ public:
   // bias_lin: (bg, ba), the bias linearization point b_bar.
-  explicit PreintegratedImu(const ImuNoise &noise = ImuNoise(),
-                            const ImuBias &bias_lin = ImuBias::Zero(),
-                            const Eigen::Vector3d &gravity = DefaultGravity());
+  explicit PreintegratedImu(const ImuNoise& noise = ImuNoise(),
+                            const ImuBias& bias_lin = ImuBias::Zero(),
+                            const Eigen::Vector3d& gravity = DefaultGravity());
 
   // Clears the increments; optionally sets a new bias linearization point.
   void Reset();
-  void Reset(const ImuBias &bias_lin);
+  void Reset(const ImuBias& bias_lin);
 
   // Adds one reading (m/s^2, rad/s, body frame) held over dt seconds with the
   // midpoint scheme described above. Returns false (and changes nothing) if
   // dt is not positive or a value is not finite.
-  bool Integrate(const Eigen::Vector3d &accel, const Eigen::Vector3d &gyro,
+  bool Integrate(const Eigen::Vector3d& accel, const Eigen::Vector3d& gyro,
                  double dt);
 
-  const Eigen::Quaterniond &delta_q() const { return delta_q_; }
+  const Eigen::Quaterniond& delta_q() const { return delta_q_; }
   Eigen::Matrix3d delta_R() const { return delta_q_.toRotationMatrix(); }
-  const Eigen::Vector3d &delta_v() const { return delta_v_; }
-  const Eigen::Vector3d &delta_p() const { return delta_p_; }
-  double delta_t() const { return delta_t_; } // seconds
+  const Eigen::Vector3d& delta_v() const { return delta_v_; }
+  const Eigen::Vector3d& delta_p() const { return delta_p_; }
+  double delta_t() const { return delta_t_; }  // seconds
   int num_samples() const { return num_samples_; }
 
   // 9x9 over [dphi, dv, dp].
-  const ImuMatrix9 &covariance() const { return covariance_; }
+  const ImuMatrix9& covariance() const { return covariance_; }
   // 9x6: rows [dphi, dv, dp], columns [bg, ba].
-  const ImuMatrix96 &bias_jacobian() const { return bias_jacobian_; }
+  const ImuMatrix96& bias_jacobian() const { return bias_jacobian_; }
   Eigen::Matrix3d dR_dbg() const { return bias_jacobian_.block<3, 3>(0, 0); }
   Eigen::Matrix3d dv_dbg() const { return bias_jacobian_.block<3, 3>(3, 0); }
   Eigen::Matrix3d dv_dba() const { return bias_jacobian_.block<3, 3>(3, 3); }
   Eigen::Matrix3d dp_dbg() const { return bias_jacobian_.block<3, 3>(6, 0); }
   Eigen::Matrix3d dp_dba() const { return bias_jacobian_.block<3, 3>(6, 3); }
 
-  const ImuBias &bias_lin() const { return bias_lin_; }
-  const Eigen::Vector3d &gravity() const { return gravity_; }
-  const ImuNoise &noise() const { return noise_; }
+  const ImuBias& bias_lin() const { return bias_lin_; }
+  const Eigen::Vector3d& gravity() const { return gravity_; }
+  const ImuNoise& noise() const { return noise_; }
 
   // First-order bias-corrected increments for bias b (see the header top).
-  Eigen::Quaterniond CorrectedDeltaQ(const ImuBias &bias) const;
-  Eigen::Vector3d CorrectedDeltaV(const ImuBias &bias) const;
-  Eigen::Vector3d CorrectedDeltaP(const ImuBias &bias) const;
+  Eigen::Quaterniond CorrectedDeltaQ(const ImuBias& bias) const;
+  Eigen::Vector3d CorrectedDeltaV(const ImuBias& bias) const;
+  Eigen::Vector3d CorrectedDeltaP(const ImuBias& bias) const;
 
   // State at j predicted from the state at i and the bias (bias-corrected).
-  NavState Predict(const NavState &state_i, const ImuBias &bias) const;
+  NavState Predict(const NavState& state_i, const ImuBias& bias) const;
 
   // The IMU factor error e = (r_R, r_v, r_p) (not whitened), see
   // factors/imu_factor.h; computed in doubles for diagnostics and tests.
-  ImuVector9 Error(const NavState &state_i, const ImuBias &bias_i,
-                   const NavState &state_j) const;
+  ImuVector9 Error(const NavState& state_i, const ImuBias& bias_i,
+                   const NavState& state_j) const;
 
-private:
+ private:
   ImuNoise noise_;
   ImuBias bias_lin_;
   Eigen::Vector3d gravity_;
@@ -163,9 +165,9 @@ private:
 //         - (dp + dp_dbg dbg + dp_dba dba).
 // Templated so that factors/imu_factor.h differentiates the same code.
 template <typename T>
-Eigen::Matrix<T, 9, 1> ImuError(const PreintegratedImu &pim, const T *pose_i,
-                                const T *vel_i, const T *bias_i,
-                                const T *pose_j, const T *vel_j) {
+Eigen::Matrix<T, 9, 1> ImuError(const PreintegratedImu& pim, const T* pose_i,
+                                const T* vel_i, const T* bias_i,
+                                const T* pose_j, const T* vel_j) {
   using Vec3 = Eigen::Matrix<T, 3, 1>;
   Eigen::Map<const Vec3> p_i(pose_i);
   Eigen::Map<const Eigen::Quaternion<T>> q_i(pose_i + 3);
@@ -177,7 +179,7 @@ Eigen::Matrix<T, 9, 1> ImuError(const PreintegratedImu &pim, const T *pose_i,
   const Eigen::Matrix<T, 6, 1> db = b_i - pim.bias_lin().cast<T>();
   const Vec3 dbg = db.template head<3>();
   const Vec3 dba = db.template tail<3>();
-  const ImuMatrix96 &jac = pim.bias_jacobian();
+  const ImuMatrix96& jac = pim.bias_jacobian();
 
   const Vec3 phi_corr = jac.block<3, 3>(0, 0).cast<T>() * dbg;
   const Eigen::Quaternion<T> dq_corr =
@@ -201,10 +203,31 @@ Eigen::Matrix<T, 9, 1> ImuError(const PreintegratedImu &pim, const T *pose_i,
   return e;
 }
 
+// One IMU reading at a stamp (body frame): accelerometer [m/s^2], gyroscope
+// [rad/s].
+struct ImuSample {
+  TimeNs stamp = 0;
+  Eigen::Vector3d accel = Eigen::Vector3d::Zero();
+  Eigen::Vector3d gyro = Eigen::Vector3d::Zero();
+};
+
+// Integrates the readings over [t_begin, t_end] into *pim (appending to what
+// it holds). `samples` must be sorted by stamp (strictly increasing). The
+// readings are interpolated linearly in time between samples (held constant
+// before the first and after the last one); the interval is cut at every
+// sample stamp inside it and each piece is integrated with the interpolated
+// reading at its middle, i.e. the mean of its end readings: second-order
+// accurate, and keyframe stamps need not coincide with sample stamps.
+// False (and *pim untouched) when t_end <= t_begin, there is no sample, or a
+// reading is not finite.
+bool IntegrateImuSamples(const std::vector<ImuSample>& samples, TimeNs t_begin,
+                         TimeNs t_end, PreintegratedImu* pim);
+
 // Right Jacobian of SO(3) at phi (full angle): Exp(phi + d) ~ Exp(phi)
-// Exp(Jr(phi) d).
-Eigen::Matrix3d RightJacobianSO3(const Eigen::Vector3d &phi);
+// Exp(Jr(phi) d); and its inverse: Log(Exp(phi) Exp(d)) ~ phi + Jr^-1 d.
+Eigen::Matrix3d RightJacobianSO3(const Eigen::Vector3d& phi);
+Eigen::Matrix3d RightJacobianInverseSO3(const Eigen::Vector3d& phi);
 
-} // namespace slam
+}  // namespace slam
 
-#endif // SLAM_CORE_IMU_PREINTEGRATION_H_
+#endif  // SLAM_CORE_IMU_PREINTEGRATION_H_

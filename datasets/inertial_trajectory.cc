@@ -1,13 +1,12 @@
 #include "datasets/inertial_trajectory.h"
 
-#include <cmath>
-
 #include <Eigen/Geometry>
+#include <cmath>
 
 namespace slam {
 
 TrajectorySample LissajousTrajectory::Evaluate(double t) const {
-  const LissajousParams &p = params_;
+  const LissajousParams& p = params_;
   TrajectorySample s;
   Eigen::Vector3d position;
   for (int k = 0; k < 3; ++k) {
@@ -43,4 +42,4 @@ TrajectorySample LissajousTrajectory::Evaluate(double t) const {
   return s;
 }
 
-} // namespace slam
+}  // namespace slam

@@ -17,9 +17,9 @@ namespace slam {
 
 struct TrajectorySample {
   Pose3 pose;
-  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();     // world
-  Eigen::Vector3d acceleration = Eigen::Vector3d::Zero(); // world
-  Eigen::Vector3d omega = Eigen::Vector3d::Zero();        // body
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();      // world
+  Eigen::Vector3d acceleration = Eigen::Vector3d::Zero();  // world
+  Eigen::Vector3d omega = Eigen::Vector3d::Zero();         // body
 };
 
 // A 3D Lissajous curve (a figure eight for the default frequencies) with a
@@ -46,17 +46,17 @@ struct LissajousParams {
 };
 
 class LissajousTrajectory {
-public:
-  explicit LissajousTrajectory(const LissajousParams &params = {})
+ public:
+  explicit LissajousTrajectory(const LissajousParams& params = {})
       : params_(params) {}
   // t in seconds.
   TrajectorySample Evaluate(double t) const;
-  const LissajousParams &params() const { return params_; }
+  const LissajousParams& params() const { return params_; }
 
-private:
+ private:
   LissajousParams params_;
 };
 
-} // namespace slam
+}  // namespace slam
 
-#endif // SLAM_DATASETS_INERTIAL_TRAJECTORY_H_
+#endif  // SLAM_DATASETS_INERTIAL_TRAJECTORY_H_

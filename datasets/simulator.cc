@@ -11,53 +11,13 @@
 #include <Eigen/Geometry>
 
 #include "core/lie.h"
+#include "datasets/simulation_random.h"
 #include "factors/pose_factors.h"
 
 namespace slam {
 namespace {
 
-// Uniform and normal draws computed from the raw engine output, so that the
-// sequence is the same with every standard library.
-class Random {
- public:
-  explicit Random(uint64_t seed) : engine_(seed) {}
-
-  // Uniform in [0, 1), 53 random bits.
-  double Uniform() {
-    return static_cast<double>(engine_() >> 11) * 0x1.0p-53;
-  }
-  double Uniform(double lo, double hi) { return lo + (hi - lo) * Uniform(); }
-  // Uniform integer in [0, n), n > 0, without modulo bias.
-  int64_t UniformInt(int64_t n) {
-    const uint64_t un = static_cast<uint64_t>(n);
-    const uint64_t limit =
-        std::numeric_limits<uint64_t>::max() -
-        std::numeric_limits<uint64_t>::max() % un;
-    uint64_t r;
-    do {
-      r = engine_();
-    } while (r >= limit);
-    return static_cast<int64_t>(r % un);
-  }
-  bool Bernoulli(double p) { return Uniform() < p; }
-  // Standard normal (Box-Muller, one draw per call).
-  double Normal() {
-    const double u1 = 1.0 - Uniform();  // (0, 1].
-    const double u2 = Uniform();
-    return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * M_PI * u2);
-  }
-  Eigen::Quaterniond UniformRotation() {
-    Eigen::Vector4d v;
-    do {
-      v << Normal(), Normal(), Normal(), Normal();
-    } while (v.norm() < 1e-6);
-    v.normalize();
-    return Eigen::Quaterniond(v[3], v[0], v[1], v[2]);
-  }
-
- private:
-  std::mt19937_64 engine_;
-};
+using Random = SimulationRandom;
 
 // The true trajectory: SE(2) poses (grid2d) or SE(3) poses.
 struct TruePoses {
@@ -365,7 +325,7 @@ bool CheckNoise(const SimulationConfig::Noise& noise, const char* section,
 
 const std::vector<std::string>& SimulationWorldTypes() {
   static const auto* types =
-      new std::vector<std::string>{"grid2d", "grid3d", "sphere3d"};
+      new std::vector<std::string>{"grid2d", "grid3d", "sphere3d", "inertial"};
   return *types;
 }
 
@@ -375,8 +335,11 @@ bool ValidateSimulationConfig(const SimulationConfig& config,
   const auto& types = SimulationWorldTypes();
   if (std::find(types.begin(), types.end(), w.type) == types.end()) {
     *error = "world.type '" + w.type + "' is not one of grid2d, grid3d, " +
-             "sphere3d";
+             "sphere3d, inertial";
     return false;
+  }
+  if (w.type == "inertial") {
+    return ValidateInertialSimulationConfig(config.inertial, error);
   }
   if (w.num_poses < 2 || w.num_poses > 10000000) {
     *error = "world.num_poses must be in [2, 10000000]";
@@ -427,6 +390,10 @@ bool ValidateSimulationConfig(const SimulationConfig& config,
 bool Simulate(const SimulationConfig& config, SimulationResult* result,
               std::string* error) {
   if (!ValidateSimulationConfig(config, error)) return false;
+  if (config.world.type == "inertial") {
+    *error = "world.type inertial is simulated by SimulateInertial";
+    return false;
+  }
   *result = SimulationResult();
   Random random(config.seed);
 

@@ -16,14 +16,14 @@
 namespace slam {
 
 class BiasRandomWalkFactor {
-public:
+ public:
   explicit BiasRandomWalkFactor(
-      const Eigen::Matrix<double, 6, 6> &sqrt_information)
+      const Eigen::Matrix<double, 6, 6>& sqrt_information)
       : sqrt_information_(sqrt_information) {}
 
   template <typename T>
-  bool operator()(const T *const bias_i, const T *const bias_j,
-                  T *residual) const {
+  bool operator()(const T* const bias_i, const T* const bias_j,
+                  T* residual) const {
     Eigen::Map<const Eigen::Matrix<T, 6, 1>> b_i(bias_i);
     Eigen::Map<const Eigen::Matrix<T, 6, 1>> b_j(bias_j);
     Eigen::Map<Eigen::Matrix<T, 6, 1>> r(residual);
@@ -31,16 +31,16 @@ public:
     return true;
   }
 
-  static ceres::CostFunction *
-  Create(const Eigen::Matrix<double, 6, 6> &sqrt_information) {
+  static ceres::CostFunction* Create(
+      const Eigen::Matrix<double, 6, 6>& sqrt_information) {
     return new ceres::AutoDiffCostFunction<BiasRandomWalkFactor, 6, 6, 6>(
         new BiasRandomWalkFactor(sqrt_information));
   }
 
-private:
+ private:
   Eigen::Matrix<double, 6, 6> sqrt_information_;
 };
 
-} // namespace slam
+}  // namespace slam
 
-#endif // SLAM_FACTORS_BIAS_RANDOM_WALK_H_
+#endif  // SLAM_FACTORS_BIAS_RANDOM_WALK_H_

@@ -14,32 +14,34 @@
 
 namespace slam {
 
-template <int N> class EuclideanPriorFactor {
-public:
+template <int N>
+class EuclideanPriorFactor {
+ public:
   using VectorN = Eigen::Matrix<double, N, 1>;
   using MatrixN = Eigen::Matrix<double, N, N>;
 
-  EuclideanPriorFactor(const VectorN &measured, const MatrixN &sqrt_information)
+  EuclideanPriorFactor(const VectorN& measured, const MatrixN& sqrt_information)
       : z_(measured), sqrt_information_(sqrt_information) {}
 
-  template <typename T> bool operator()(const T *const x, T *residual) const {
+  template <typename T>
+  bool operator()(const T* const x, T* residual) const {
     Eigen::Map<const Eigen::Matrix<T, N, 1>> v(x);
     Eigen::Map<Eigen::Matrix<T, N, 1>> r(residual);
     r = sqrt_information_.template cast<T>() * (v - z_.template cast<T>());
     return true;
   }
 
-  static ceres::CostFunction *Create(const VectorN &measured,
-                                     const MatrixN &sqrt_information) {
+  static ceres::CostFunction* Create(const VectorN& measured,
+                                     const MatrixN& sqrt_information) {
     return new ceres::AutoDiffCostFunction<EuclideanPriorFactor, N, N>(
         new EuclideanPriorFactor(measured, sqrt_information));
   }
 
-private:
+ private:
   VectorN z_;
   MatrixN sqrt_information_;
 };
 
-} // namespace slam
+}  // namespace slam
 
-#endif // SLAM_FACTORS_EUCLIDEAN_PRIOR_H_
+#endif  // SLAM_FACTORS_EUCLIDEAN_PRIOR_H_

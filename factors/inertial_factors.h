@@ -18,9 +18,8 @@
 #ifndef SLAM_FACTORS_INERTIAL_FACTORS_H_
 #define SLAM_FACTORS_INERTIAL_FACTORS_H_
 
-#include <string>
-
 #include <Eigen/Core>
+#include <string>
 
 #include "core/graph.h"
 #include "core/imu_preintegration.h"
@@ -30,36 +29,36 @@ namespace slam {
 
 // Fails when the preintegration holds no sample or its covariance is not
 // positive definite.
-bool MakeImuFactor(const Key &pose_i, const Key &vel_i, const Key &bias_i,
-                   const Key &pose_j, const Key &vel_j,
-                   const PreintegratedImu &pim, Factor *factor,
-                   std::string *error);
+bool MakeImuFactor(const Key& pose_i, const Key& vel_i, const Key& bias_i,
+                   const Key& pose_j, const Key& vel_j,
+                   const PreintegratedImu& pim, Factor* factor,
+                   std::string* error);
 
 // Random walk over dt seconds (dt > 0) with the densities of `noise`.
-bool MakeBiasRandomWalk(const Key &bias_i, const Key &bias_j,
-                        const ImuNoise &noise, double dt, Factor *factor,
-                        std::string *error);
+bool MakeBiasRandomWalk(const Key& bias_i, const Key& bias_j,
+                        const ImuNoise& noise, double dt, Factor* factor,
+                        std::string* error);
 
 // World position z of the point at lever_arm in the body frame.
-bool MakePositionFactor(const Key &pose, const Eigen::Vector3d &z,
-                        const Eigen::Matrix3d &information,
-                        const Eigen::Vector3d &lever_arm, Factor *factor,
-                        std::string *error);
+bool MakePositionFactor(const Key& pose, const Eigen::Vector3d& z,
+                        const Eigen::Matrix3d& information,
+                        const Eigen::Vector3d& lever_arm, Factor* factor,
+                        std::string* error);
 
-bool MakePriorVelocity(const Key &velocity, const Eigen::Vector3d &z,
-                       const Eigen::Matrix3d &information, Factor *factor,
-                       std::string *error);
+bool MakePriorVelocity(const Key& velocity, const Eigen::Vector3d& z,
+                       const Eigen::Matrix3d& information, Factor* factor,
+                       std::string* error);
 
-bool MakePriorBias(const Key &bias, const ImuBias &z,
-                   const Eigen::Matrix<double, 6, 6> &information,
-                   Factor *factor, std::string *error);
+bool MakePriorBias(const Key& bias, const ImuBias& z,
+                   const Eigen::Matrix<double, 6, 6>& information,
+                   Factor* factor, std::string* error);
 
 // Square-root information of a covariance: a matrix S with
 // S^T S = covariance^-1 (S = C^-1 for covariance = C C^T), so that r = S e
 // has |r|^2 = e^T covariance^-1 e. False if not positive definite.
-bool SqrtInformationFromCovariance(const Eigen::MatrixXd &covariance,
-                                   Eigen::MatrixXd *sqrt_information);
+bool SqrtInformationFromCovariance(const Eigen::MatrixXd& covariance,
+                                   Eigen::MatrixXd* sqrt_information);
 
-} // namespace slam
+}  // namespace slam
 
-#endif // SLAM_FACTORS_INERTIAL_FACTORS_H_
+#endif  // SLAM_FACTORS_INERTIAL_FACTORS_H_

@@ -17,14 +17,16 @@
 namespace slam {
 
 class PositionFactor {
-public:
-  PositionFactor(const Eigen::Vector3d &position_measured,
-                 const Eigen::Vector3d &lever_arm,
-                 const Eigen::Matrix3d &sqrt_information)
-      : z_(position_measured), lever_arm_(lever_arm),
+ public:
+  PositionFactor(const Eigen::Vector3d& position_measured,
+                 const Eigen::Vector3d& lever_arm,
+                 const Eigen::Matrix3d& sqrt_information)
+      : z_(position_measured),
+        lever_arm_(lever_arm),
         sqrt_information_(sqrt_information) {}
 
-  template <typename T> bool operator()(const T *const x, T *residual) const {
+  template <typename T>
+  bool operator()(const T* const x, T* residual) const {
     Eigen::Map<const Eigen::Matrix<T, 3, 1>> t(x);
     Eigen::Map<const Eigen::Quaternion<T>> q(x + 3);
     const Eigen::Matrix<T, 3, 1> e =
@@ -34,19 +36,19 @@ public:
     return true;
   }
 
-  static ceres::CostFunction *Create(const Eigen::Vector3d &position_measured,
-                                     const Eigen::Vector3d &lever_arm,
-                                     const Eigen::Matrix3d &sqrt_information) {
+  static ceres::CostFunction* Create(const Eigen::Vector3d& position_measured,
+                                     const Eigen::Vector3d& lever_arm,
+                                     const Eigen::Matrix3d& sqrt_information) {
     return new ceres::AutoDiffCostFunction<PositionFactor, 3, 7>(
         new PositionFactor(position_measured, lever_arm, sqrt_information));
   }
 
-private:
+ private:
   Eigen::Vector3d z_;
   Eigen::Vector3d lever_arm_;
   Eigen::Matrix3d sqrt_information_;
 };
 
-} // namespace slam
+}  // namespace slam
 
-#endif // SLAM_FACTORS_POSITION_FACTOR_H_
+#endif  // SLAM_FACTORS_POSITION_FACTOR_H_
