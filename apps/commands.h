@@ -14,6 +14,7 @@ int RunOptimizeCommand(const std::vector<std::string>& args);
 int RunInfoCommand(const std::vector<std::string>& args);
 int RunSimulateCommand(const std::vector<std::string>& args);
 int RunEvalCommand(const std::vector<std::string>& args);
+int RunInertialCommand(const std::vector<std::string>& args);
 
 }  // namespace slam
 

@@ -3,6 +3,7 @@
 //   slam optimize -i IN.g2o -o OUT.g2o [flags]   optimize a pose graph
 //   slam info FILE                               counts, components, chi2
 //   slam simulate -o DIR [flags]                 synthetic data with truth
+//   slam inertial -i IN -o DIR [flags]           IMU window / batch
 //
 // `slam <command> --help` lists the flags. Every setting also has a YAML
 // form (--config FILE); --dump_config prints the effective configuration.
@@ -35,6 +36,9 @@ const std::map<std::string, Command>& Commands() {
       {"eval",
        {slam::RunEvalCommand,
         "ATE/RPE of a trajectory: slam eval --ref GT --est EST [--plot DIR]"}},
+      {"inertial",
+       {slam::RunInertialCommand,
+        "IMU + position fixes: slam inertial -i EUROC_DIR|GTSAM.csv -o DIR"}},
       {"simulate",
        {slam::RunSimulateCommand,
         "write a synthetic dataset with ground truth: slam simulate -o DIR"}},

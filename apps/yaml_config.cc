@@ -29,7 +29,8 @@ bool CheckKnownKeys(const YAML::Node& node,
 
 bool CheckTopLevelSections(const YAML::Node& root, const std::string& where,
                            std::string* error) {
-  return CheckKnownKeys(root, {"optimize", "simulate", "eval"}, where, error);
+  return CheckKnownKeys(root, {"optimize", "simulate", "eval", "inertial"},
+                        where, error);
 }
 
 bool LoadYamlFile(const std::string& path, YAML::Node* root,

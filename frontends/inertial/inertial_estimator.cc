@@ -19,22 +19,16 @@ double SecondsSince(std::chrono::steady_clock::time_point start) {
       .count();
 }
 
-// Preintegrates the readings between samples a and b (a < b) with the mean
-// of the readings at the ends of each interval.
-bool Preintegrate(const InertialLog& log, size_t a, size_t b,
+// Preintegrates the readings between samples a and b (a < b).
+bool Preintegrate(const InertialData& data, size_t a, size_t b,
                   const InertialOptions& options, const ImuBias& bias_lin,
                   PreintegratedImu* pim, std::string* error) {
   *pim = PreintegratedImu(options.noise, bias_lin, options.gravity);
-  for (size_t s = a; s < b; ++s) {
-    const InertialLog::Imu& m0 = log.imu[s];
-    const InertialLog::Imu& m1 = log.imu[s + 1];
-    const double dt = NsToSeconds(m1.stamp - m0.stamp);
-    if (!pim->Integrate(0.5 * (m0.accel + m1.accel), 0.5 * (m0.gyro + m1.gyro),
-                        dt)) {
-      *error = "IMU sample " + std::to_string(s + 1) +
-               ": cannot integrate (non-positive dt or non-finite value)";
-      return false;
-    }
+  if (!IntegrateImuSamples(data.imu, data.imu[a].stamp, data.imu[b].stamp,
+                           pim)) {
+    *error = "IMU readings " + std::to_string(a) + ".." + std::to_string(b) +
+             ": cannot integrate (non-finite value)";
+    return false;
   }
   return true;
 }
@@ -45,13 +39,14 @@ struct InitialGuess {
   double position_sigma, rotation_sigma, velocity_sigma;
 };
 
-InitialGuess MakeInitialGuess(const InertialLog& log,
+InitialGuess MakeInitialGuess(const InertialData& data,
                               const InertialOptions& options) {
   InitialGuess guess;
-  guess.state.stamp = log.imu.front().stamp;
-  if (log.has_initial_state) {
-    guess.state.state = log.initial_state;
-    guess.state.bias = log.initial_bias;
+  guess.state.stamp = data.imu.front().stamp;
+  guess.state.bias = options.initial_bias;
+  if (data.has_initial_state) {
+    guess.state.state = data.initial_state;
+
     guess.position_sigma = options.prior_position_sigma;
     guess.rotation_sigma = options.prior_rotation_sigma;
     guess.velocity_sigma = options.prior_velocity_sigma;
@@ -61,22 +56,23 @@ InitialGuess MakeInitialGuess(const InertialLog& log,
   Eigen::Vector3d up = -options.gravity;
   if (up.norm() < 1e-9) up = Eigen::Vector3d::UnitZ();
   const Eigen::Quaterniond q =
-      Eigen::Quaterniond::FromTwoVectors(log.imu.front().accel, up);
+      Eigen::Quaterniond::FromTwoVectors(data.imu.front().accel, up);
   Eigen::Vector3d p = Eigen::Vector3d::Zero();
-  if (!log.fixes.empty()) p = log.fixes.front().position;
+  if (!data.positions.empty()) p = data.positions.front().position;
   guess.state.state.pose = Pose3(p, q);
   guess.position_sigma =
-      log.fixes.empty() ? 1.0 : std::max(options.position_sigma, 1e-3);
+      data.positions.empty() ? 1.0 : std::max(options.position_sigma, 1e-3);
   guess.rotation_sigma = 1.0;
   guess.velocity_sigma = 1.0;
   return guess;
 }
 
 // Factors of keyframe k (k = 0: priors), given the preintegration from k-1.
-bool KeyframeFactors(const InertialLog& log, const KeyframePlan& plan, size_t k,
-                     const InertialOptions& options, const InitialGuess& guess,
-                     const PreintegratedImu* pim, std::vector<Factor>* factors,
-                     int* fixes_used, std::string* error) {
+bool KeyframeFactors(const InertialData& data, const KeyframePlan& plan,
+                     size_t k, const InertialOptions& options,
+                     const InitialGuess& guess, const PreintegratedImu* pim,
+                     std::vector<Factor>* factors, int* fixes_used,
+                     std::string* error) {
   factors->clear();
   const int64_t id = static_cast<int64_t>(k);
   Factor f;
@@ -123,7 +119,7 @@ bool KeyframeFactors(const InertialLog& log, const KeyframePlan& plan, size_t k,
   }
   if (plan.fix[k] >= 0) {
     const double s = options.position_sigma;
-    if (!MakePositionFactor(Pose3Key(id), log.fixes[plan.fix[k]].position,
+    if (!MakePositionFactor(Pose3Key(id), data.positions[plan.fix[k]].position,
                             Eigen::Matrix3d::Identity() / (s * s),
                             options.lever_arm, &f, error)) {
       return false;
@@ -165,10 +161,10 @@ InertialState GraphState(const Graph& graph, int64_t id, TimeNs stamp) {
 
 }  // namespace
 
-bool PlanKeyframes(const InertialLog& log, double keyframe_rate_hz,
+bool PlanKeyframes(const InertialData& data, double keyframe_rate_hz,
                    KeyframePlan* plan, std::string* error) {
   *plan = KeyframePlan();
-  if (log.imu.size() < 2) {
+  if (data.imu.size() < 2) {
     *error = "need at least two IMU readings";
     return false;
   }
@@ -177,28 +173,28 @@ bool PlanKeyframes(const InertialLog& log, double keyframe_rate_hz,
     return false;
   }
   std::vector<int64_t> dts;
-  for (size_t s = 1; s < log.imu.size(); ++s) {
-    if (log.imu[s].stamp <= log.imu[s - 1].stamp) {
+  for (size_t s = 1; s < data.imu.size(); ++s) {
+    if (data.imu[s].stamp <= data.imu[s - 1].stamp) {
       *error = "IMU stamps do not increase at reading " + std::to_string(s);
       return false;
     }
-    dts.push_back(log.imu[s].stamp - log.imu[s - 1].stamp);
+    dts.push_back(data.imu[s].stamp - data.imu[s - 1].stamp);
   }
   std::nth_element(dts.begin(), dts.begin() + dts.size() / 2, dts.end());
   const int64_t imu_period = dts[dts.size() / 2];
   // Fix -> nearest sample.
-  std::vector<int> fix_at(log.imu.size(), -1);
-  for (size_t f = 0; f < log.fixes.size(); ++f) {
-    const TimeNs t = log.fixes[f].stamp;
+  std::vector<int> fix_at(data.imu.size(), -1);
+  for (size_t f = 0; f < data.positions.size(); ++f) {
+    const TimeNs t = data.positions[f].stamp;
     auto it = std::lower_bound(
-        log.imu.begin(), log.imu.end(), t,
-        [](const InertialLog::Imu& m, TimeNs v) { return m.stamp < v; });
-    size_t s = static_cast<size_t>(it - log.imu.begin());
-    if (s == log.imu.size() ||
-        (s > 0 && t - log.imu[s - 1].stamp < log.imu[s].stamp - t)) {
+        data.imu.begin(), data.imu.end(), t,
+        [](const ImuSample& m, TimeNs v) { return m.stamp < v; });
+    size_t s = static_cast<size_t>(it - data.imu.begin());
+    if (s == data.imu.size() ||
+        (s > 0 && t - data.imu[s - 1].stamp < data.imu[s].stamp - t)) {
       s = s == 0 ? 0 : s - 1;
     }
-    if (std::llabs(log.imu[s].stamp - t) > imu_period) {
+    if (std::llabs(data.imu[s].stamp - t) > imu_period) {
       ++plan->skipped_fixes;
       continue;
     }
@@ -206,14 +202,14 @@ bool PlanKeyframes(const InertialLog& log, double keyframe_rate_hz,
   }
   const int64_t period =
       static_cast<int64_t>(std::llround(1e9 / keyframe_rate_hz));
-  TimeNs last = log.imu.front().stamp;
+  TimeNs last = data.imu.front().stamp;
   plan->sample.push_back(0);
   plan->fix.push_back(fix_at[0]);
-  for (size_t s = 1; s < log.imu.size(); ++s) {
-    if (fix_at[s] >= 0 || log.imu[s].stamp - last >= period - imu_period / 2) {
+  for (size_t s = 1; s < data.imu.size(); ++s) {
+    if (fix_at[s] >= 0 || data.imu[s].stamp - last >= period - imu_period / 2) {
       plan->sample.push_back(s);
       plan->fix.push_back(fix_at[s]);
-      last = log.imu[s].stamp;
+      last = data.imu[s].stamp;
     }
   }
   if (plan->sample.size() < 2) {
@@ -223,16 +219,16 @@ bool PlanKeyframes(const InertialLog& log, double keyframe_rate_hz,
   return true;
 }
 
-bool RunSlidingWindow(const InertialLog& log, const InertialOptions& options,
+bool RunSlidingWindow(const InertialData& data, const InertialOptions& options,
                       InertialRun* run, std::ostream* progress,
                       std::string* error) {
   *run = InertialRun();
   const auto start = std::chrono::steady_clock::now();
   KeyframePlan plan;
-  if (!PlanKeyframes(log, options.keyframe_rate_hz, &plan, error)) {
+  if (!PlanKeyframes(data, options.keyframe_rate_hz, &plan, error)) {
     return false;
   }
-  const InitialGuess guess = MakeInitialGuess(log, options);
+  const InitialGuess guess = MakeInitialGuess(data, options);
   SlidingWindowOptions window_options = options.window;
   window_options.prior_builder = MakeMarginalizationPrior;
   SlidingWindow window(window_options);
@@ -242,12 +238,12 @@ bool RunSlidingWindow(const InertialLog& log, const InertialOptions& options,
   size_t next_report = 1;
   for (size_t k = 0; k < n; ++k) {
     const int64_t id = static_cast<int64_t>(k);
-    const TimeNs stamp = log.imu[plan.sample[k]].stamp;
+    const TimeNs stamp = data.imu[plan.sample[k]].stamp;
     InertialState predicted = guess.state;
     if (k > 0) {
-      const InertialState prev =
-          GraphState(window.graph(), id - 1, log.imu[plan.sample[k - 1]].stamp);
-      if (!Preintegrate(log, plan.sample[k - 1], plan.sample[k], options,
+      const InertialState prev = GraphState(window.graph(), id - 1,
+                                            data.imu[plan.sample[k - 1]].stamp);
+      if (!Preintegrate(data, plan.sample[k - 1], plan.sample[k], options,
                         prev.bias, &pim, error)) {
         return false;
       }
@@ -255,7 +251,7 @@ bool RunSlidingWindow(const InertialLog& log, const InertialOptions& options,
       predicted.bias = prev.bias;
     }
     predicted.stamp = stamp;
-    if (!KeyframeFactors(log, plan, k, options, guess, k > 0 ? &pim : nullptr,
+    if (!KeyframeFactors(data, plan, k, options, guess, k > 0 ? &pim : nullptr,
                          &factors, &run->num_fixes_used, error) ||
         !window.AddKeyframe(stamp, StateNodes(id, predicted),
                             std::move(factors), error)) {
@@ -287,7 +283,7 @@ bool RunSlidingWindow(const InertialLog& log, const InertialOptions& options,
       std::snprintf(line, sizeof(line),
                     "window: keyframe %zu/%zu t=%.2f s, update median %.2f ms "
                     "p99 %.2f ms, chi2 %.4g\n",
-                    k + 1, n, NsToSeconds(stamp - log.imu.front().stamp),
+                    k + 1, n, NsToSeconds(stamp - data.imu.front().stamp),
                     1e3 * t.median, 1e3 * t.p99, stats.final_chi2);
       *progress << line;
       while ((k + 1) * 10 >= next_report * n) ++next_report;
@@ -297,7 +293,7 @@ bool RunSlidingWindow(const InertialLog& log, const InertialOptions& options,
   for (size_t k = 0; k < n; ++k) {
     const int64_t id = static_cast<int64_t>(k);
     const auto& v = window.final_values();
-    run->smoothed.push_back(ReadState(id, log.imu[plan.sample[k]].stamp,
+    run->smoothed.push_back(ReadState(id, data.imu[plan.sample[k]].stamp,
                                       v.at(Pose3Key(id)), v.at(VelocityKey(id)),
                                       v.at(ImuBiasKey(id))));
   }
@@ -318,13 +314,13 @@ bool RunSlidingWindow(const InertialLog& log, const InertialOptions& options,
   return true;
 }
 
-bool RunBatch(const InertialLog& log, const InertialOptions& options,
+bool RunBatch(const InertialData& data, const InertialOptions& options,
               const std::vector<InertialState>& init, InertialRun* run,
               std::ostream* progress, std::string* error) {
   *run = InertialRun();
   const auto start = std::chrono::steady_clock::now();
   KeyframePlan plan;
-  if (!PlanKeyframes(log, options.keyframe_rate_hz, &plan, error)) {
+  if (!PlanKeyframes(data, options.keyframe_rate_hz, &plan, error)) {
     return false;
   }
   const size_t n = plan.sample.size();
@@ -333,17 +329,17 @@ bool RunBatch(const InertialLog& log, const InertialOptions& options,
              " states for " + std::to_string(n) + " keyframes";
     return false;
   }
-  const InitialGuess guess = MakeInitialGuess(log, options);
+  const InitialGuess guess = MakeInitialGuess(data, options);
   Graph graph;
   std::vector<Factor> factors;
   PreintegratedImu pim(options.noise, ImuBias::Zero(), options.gravity);
   InertialState prev = guess.state;
   for (size_t k = 0; k < n; ++k) {
     const int64_t id = static_cast<int64_t>(k);
-    const TimeNs stamp = log.imu[plan.sample[k]].stamp;
+    const TimeNs stamp = data.imu[plan.sample[k]].stamp;
     InertialState value = init.empty() ? guess.state : init[k];
     if (k > 0) {
-      if (!Preintegrate(log, plan.sample[k - 1], plan.sample[k], options,
+      if (!Preintegrate(data, plan.sample[k - 1], plan.sample[k], options,
                         prev.bias, &pim, error)) {
         return false;
       }
@@ -351,7 +347,7 @@ bool RunBatch(const InertialLog& log, const InertialOptions& options,
         value.state = pim.Predict(prev.state, prev.bias);
         value.bias = prev.bias;
         if (plan.fix[k] >= 0) {
-          value.state.pose.t = log.fixes[plan.fix[k]].position;
+          value.state.pose.t = data.positions[plan.fix[k]].position;
         }
       }
     }
@@ -361,7 +357,7 @@ bool RunBatch(const InertialLog& log, const InertialOptions& options,
       node->stamp = stamp;
       node->has_stamp = true;
     }
-    if (!KeyframeFactors(log, plan, k, options, guess, k > 0 ? &pim : nullptr,
+    if (!KeyframeFactors(data, plan, k, options, guess, k > 0 ? &pim : nullptr,
                          &factors, &run->num_fixes_used, error)) {
       *error = "keyframe " + std::to_string(k) + ": " + *error;
       return false;
@@ -379,7 +375,7 @@ bool RunBatch(const InertialLog& log, const InertialOptions& options,
   }
   for (size_t k = 0; k < n; ++k) {
     run->smoothed.push_back(GraphState(graph, static_cast<int64_t>(k),
-                                       log.imu[plan.sample[k]].stamp));
+                                       data.imu[plan.sample[k]].stamp));
   }
   run->total_seconds = SecondsSince(start);
   if (progress != nullptr) {

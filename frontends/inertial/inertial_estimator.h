@@ -11,8 +11,9 @@
 //   keyframe 0:  prior on pose, velocity and bias (initial state and sigmas);
 //   keyframe k:  IMU factor (k-1 -> k), bias random walk (k-1 -> k);
 //   with a fix:  position factor (lever arm in the body frame).
-// Each IMU interval [t_s, t_s+1] is integrated with the mean of the readings
-// at its two ends (the midpoint reading of PreintegratedImu::Integrate).
+// The readings between keyframes are integrated by IntegrateImuSamples
+// (core/imu_preintegration.h: each interval with the mean of its end
+// readings, second order).
 // A position fix is attached to the keyframe at the IMU sample nearest in
 // time; fixes farther than one IMU period from any sample are skipped.
 #ifndef SLAM_FRONTENDS_INERTIAL_INERTIAL_ESTIMATOR_H_
@@ -28,36 +29,18 @@
 #include "core/imu_preintegration.h"
 #include "core/sliding_window.h"
 #include "core/trajectory.h"
+#include "datasets/imu_io.h"
 
 namespace slam {
 
-// The input of the estimators, whatever file it came from.
-struct InertialLog {
-  struct Imu {
-    TimeNs stamp = 0;
-    Eigen::Vector3d accel = Eigen::Vector3d::Zero();  // m/s^2, body
-    Eigen::Vector3d gyro = Eigen::Vector3d::Zero();   // rad/s, body
-  };
-  struct Fix {
-    TimeNs stamp = 0;
-    Eigen::Vector3d position = Eigen::Vector3d::Zero();  // world, metres
-  };
-  std::vector<Imu> imu;  // Increasing stamps.
-  std::vector<Fix> fixes;
-  // State at imu.front().stamp when known (e.g. from ground truth or the
-  // GTSAM file's initial row); otherwise the first fix's position (or 0),
-  // zero velocity, roll and pitch from the first accelerometer reading
-  // (assumed at rest) and zero bias, with wide priors.
-  bool has_initial_state = false;
-  NavState initial_state;
-  ImuBias initial_bias = ImuBias::Zero();
-  // Optional gravity from the file (GTSAM's example data has none).
-  bool has_gravity = false;
-  Eigen::Vector3d gravity = DefaultGravity();
-};
-
+// Input: InertialData (datasets/imu_io.h): IMU readings, position fixes and
+// the initial state when the file has one (GTSAM's "i" row; the simulator's
+// true state). Without it: the first fix's position (or 0), zero velocity,
+// roll and pitch from the first accelerometer reading (assumed at rest), with
+// wide priors (1 m or the fix sigma, 1 rad, 1 m/s).
 struct InertialOptions {
   double keyframe_rate_hz = 10.0;
+  ImuBias initial_bias = ImuBias::Zero();  // Prior mean of the first bias.
   ImuNoise noise;
   Eigen::Vector3d gravity = DefaultGravity();
   double position_sigma = 0.1;  // metres, per axis, of the fixes.
@@ -97,23 +80,23 @@ struct InertialRun {
 
 // The keyframes: sample index of each keyframe and the fix attached to it.
 struct KeyframePlan {
-  std::vector<size_t> sample;  // Index into log.imu.
-  std::vector<int> fix;        // Index into log.fixes or -1.
+  std::vector<size_t> sample;  // Index into data.imu.
+  std::vector<int> fix;        // Index into data.positions or -1.
   int skipped_fixes = 0;
 };
-bool PlanKeyframes(const InertialLog& log, double keyframe_rate_hz,
+bool PlanKeyframes(const InertialData& data, double keyframe_rate_hz,
                    KeyframePlan* plan, std::string* error);
 
-// Runs the sliding window over the whole log. `progress` (may be nullptr)
+// Runs the sliding window over all the data. `progress` (may be nullptr)
 // gets a line every ~10% and a summary line.
-bool RunSlidingWindow(const InertialLog& log, const InertialOptions& options,
+bool RunSlidingWindow(const InertialData& data, const InertialOptions& options,
                       InertialRun* run, std::ostream* progress,
                       std::string* error);
 
 // The global batch over all keyframes. Initial values: `init` (one state per
 // keyframe of the plan, e.g. a window run's smoothed states) when not empty,
 // otherwise dead reckoning from the initial state (reset to the fixes).
-bool RunBatch(const InertialLog& log, const InertialOptions& options,
+bool RunBatch(const InertialData& data, const InertialOptions& options,
               const std::vector<InertialState>& init, InertialRun* run,
               std::ostream* progress, std::string* error);
 
