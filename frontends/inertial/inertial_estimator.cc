@@ -202,14 +202,32 @@ bool PlanKeyframes(const InertialData& data, double keyframe_rate_hz,
   }
   const int64_t period =
       static_cast<int64_t>(std::llround(1e9 / keyframe_rate_hz));
-  TimeNs last = data.imu.front().stamp;
+  // Keyframes at least half a period apart (a very short IMU interval gives
+  // a near-singular preintegration covariance): a fix close after the last
+  // keyframe moves that keyframe to the fix when it is an ordinary one, is
+  // attached to it when it is at most one IMU period away, or is skipped.
   plan->sample.push_back(0);
   plan->fix.push_back(fix_at[0]);
+  std::vector<bool> forced = {true};  // The first keyframe stays.
   for (size_t s = 1; s < data.imu.size(); ++s) {
-    if (fix_at[s] >= 0 || data.imu[s].stamp - last >= period - imu_period / 2) {
+    const int64_t since =
+        data.imu[s].stamp - data.imu[plan->sample.back()].stamp;
+    if (fix_at[s] >= 0 && since < period / 2) {
+      if (!forced.back()) {
+        plan->sample.back() = s;
+        plan->fix.back() = fix_at[s];
+        forced.back() = true;
+      } else if (since <= imu_period && plan->fix.back() < 0) {
+        plan->fix.back() = fix_at[s];
+      } else {
+        ++plan->skipped_fixes;
+      }
+      continue;
+    }
+    if (fix_at[s] >= 0 || since >= period - imu_period / 2) {
       plan->sample.push_back(s);
       plan->fix.push_back(fix_at[s]);
-      last = data.imu[s].stamp;
+      forced.push_back(fix_at[s] >= 0);
     }
   }
   if (plan->sample.size() < 2) {
