@@ -7,7 +7,7 @@
 //     keyframe_rate: 10        # Hz
 //     window_size: 10          # keyframes
 //     window_iterations: 10    # Ceres iterations per update
-//     linear_solver: dense_normal_cholesky
+//     linear_solver: sparse_normal_cholesky  # or dense_normal_cholesky, ...
 //     gravity: auto            # auto (the input's) or [gx, gy, gz]
 //     gyro_noise_density: 1.6968e-4   # rad/s/sqrt(Hz)   (ADIS16448)
 //     accel_noise_density: 2.0e-3     # m/s^2/sqrt(Hz)

@@ -35,10 +35,13 @@ namespace slam {
 struct SlidingWindowOptions {
   int window_size = 10;  // Keyframes optimized together (>= 2).
   // Ceres settings per update: a few LM iterations warm-started from the
-  // previous estimate. For ~10 keyframes of 15 dof a dense normal Cholesky
-  // on the ~150x150 system is fastest.
+  // previous estimate. Sparse normal Cholesky: measured on the inertial
+  // window (10 keyframes of 15 dof, 60 s simulated, 601 updates) median
+  // 0.19 ms / p99 3.3 ms, against 0.43 / 8.4 ms for dense normal Cholesky
+  // (whose dense Jacobian products dominate) and 0.22 / 4.5 ms for
+  // dense_schur.
   int max_iterations = 10;
-  std::string linear_solver = "dense_normal_cholesky";
+  std::string linear_solver = "sparse_normal_cholesky";
   double function_tolerance = 1e-8;
   double gradient_tolerance = 1e-10;
   double parameter_tolerance = 1e-8;
