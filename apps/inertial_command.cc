@@ -114,6 +114,35 @@ bool LoadEvalSettingsSection(EvalSettings* settings, std::string* error) {
                               &associate_auto, error);
 }
 
+// initial_state: ground_truth. Drops the IMU readings before the first
+// ground-truth state and starts there.
+bool StartAtGroundTruth(InertialData* data, std::string* error) {
+  if (data->ground_truth.empty()) {
+    *error = "initial_state ground_truth: the input has no ground truth";
+    return false;
+  }
+  const InertialGroundTruth& first = data->ground_truth.front();
+  size_t s = 0;
+  while (s < data->imu.size() && data->imu[s].stamp < first.stamp) ++s;
+  if (s == data->imu.size()) {
+    *error =
+        "initial_state ground_truth: no IMU reading after the first "
+        "ground-truth state";
+    return false;
+  }
+  data->imu.erase(data->imu.begin(), data->imu.begin() + s);
+  // The ground-truth state at (or just before) the first kept reading.
+  const InertialGroundTruth* start = &first;
+  for (const InertialGroundTruth& g : data->ground_truth) {
+    if (g.stamp > data->imu.front().stamp) break;
+    start = &g;
+  }
+  data->has_initial_state = true;
+  data->initial_state.pose = start->pose;
+  data->initial_state.velocity = start->velocity;
+  return true;
+}
+
 struct Estimate {
   std::string name;  // "window", "window_filter", "batch"
   Trajectory trajectory;
@@ -143,6 +172,11 @@ int RunInertialCommand(const std::vector<std::string>& args) {
     return 1;
   }
   if (config.gravity_auto) config.options.gravity = data.gravity;
+  if (config.initial_state == "ground_truth" &&
+      !StartAtGroundTruth(&data, &error)) {
+    std::cerr << "slam inertial: " << FLAGS_i << ": " << error << "\n";
+    return 1;
+  }
   TrajectoryData gt;
   const bool evaluate = !FLAGS_gt.empty();
   if (FLAGS_gt == "input") {

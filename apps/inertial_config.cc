@@ -40,19 +40,22 @@ bool LoadInertialConfig(const std::string& path, InertialConfig* config,
   if (!CheckTopLevelSections(root, path, error)) return false;
   const YAML::Node node = root["inertial"];
   if (!node) return true;
-  if (!CheckKnownKeys(node,
-                      {"input_format", "estimator", "keyframe_rate",
-                       "window_size", "window_iterations", "linear_solver",
-                       "gravity", "gyro_noise_density", "accel_noise_density",
-                       "gyro_random_walk", "accel_random_walk",
-                       "position_sigma", "lever_arm", "prior_position_sigma",
-                       "prior_rotation_sigma", "prior_velocity_sigma",
-                       "prior_gyro_bias_sigma", "prior_accel_bias_sigma"},
-                      path, error)) {
+  if (!CheckKnownKeys(
+          node,
+          {"input_format", "initial_state", "estimator", "keyframe_rate",
+           "window_size", "window_iterations", "linear_solver", "gravity",
+           "gyro_noise_density", "accel_noise_density", "gyro_random_walk",
+           "accel_random_walk", "position_sigma", "lever_arm",
+           "prior_position_sigma", "prior_rotation_sigma",
+           "prior_velocity_sigma", "prior_gyro_bias_sigma",
+           "prior_accel_bias_sigma"},
+          path, error)) {
     return false;
   }
   InertialOptions& o = config->options;
   if (!ReadOptional(node, "input_format", path, &config->input_format, error) ||
+      !ReadOptional(node, "initial_state", path, &config->initial_state,
+                    error) ||
       !ReadOptional(node, "estimator", path, &config->estimator, error) ||
       !ReadOptional(node, "keyframe_rate", path, &o.keyframe_rate_hz, error) ||
       !ReadOptional(node, "window_size", path, &o.window.window_size, error) ||
@@ -109,6 +112,12 @@ bool ValidateInertialConfig(const InertialConfig& config, std::string* error) {
              "' is not one of auto, euroc, gtsam";
     return false;
   }
+  if (config.initial_state != "auto" &&
+      config.initial_state != "ground_truth") {
+    *error = "initial_state '" + config.initial_state +
+             "' is not one of auto, ground_truth";
+    return false;
+  }
   if (config.estimator != "window" && config.estimator != "batch" &&
       config.estimator != "both") {
     *error = "estimator '" + config.estimator +
@@ -160,6 +169,7 @@ std::string InertialConfigToYaml(const InertialConfig& config) {
   out.precision(17);
   out << "inertial:\n"
       << "  input_format: " << config.input_format << "\n"
+      << "  initial_state: " << config.initial_state << "\n"
       << "  estimator: " << config.estimator << "\n"
       << "  keyframe_rate: " << o.keyframe_rate_hz << "\n"
       << "  window_size: " << o.window.window_size << "\n"

@@ -3,6 +3,7 @@
 //
 //   inertial:
 //     input_format: auto       # auto | euroc | gtsam
+//     initial_state: auto      # auto | ground_truth (see below)
 //     estimator: both          # window | batch | both
 //     keyframe_rate: 10        # Hz
 //     window_size: 10          # keyframes
@@ -21,6 +22,11 @@
 //     prior_gyro_bias_sigma: 0.01  # rad/s (prior mean 0)
 //     prior_accel_bias_sigma: 0.1  # m/s^2
 //
+// initial_state: auto uses the input's initial state when it has one (the
+// GTSAM "i" row), else a static start (frontends/inertial/
+// inertial_estimator.h); ground_truth starts at the first ground-truth state
+// of an EuRoC folder (IMU readings before it are dropped) with the prior
+// sigmas below, as EuRoC evaluations commonly do.
 // For the GTSAM example file use gyro/accel densities 2.05689e-4 / 3.924e-4,
 // random walks 1.454441e-6 / 4.905e-3, position_sigma 1.0, and a wide
 // prior_velocity_sigma (its initial velocity row is not consistent with the
@@ -36,6 +42,7 @@ namespace slam {
 
 struct InertialConfig {
   std::string input_format = "auto";
+  std::string initial_state = "auto";
   std::string estimator = "both";
   bool gravity_auto = true;
   InertialOptions options;  // keyframe rate, noise, priors, window options.

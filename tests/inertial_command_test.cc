@@ -74,6 +74,15 @@ TEST(InertialCommandTest, SimulatedEurocWindowAndBatch) {
   const std::string report = ReadText(dir + "/report.json");
   EXPECT_TRUE(Contains(report, "\"median_ms\"")) << report;
   EXPECT_TRUE(Contains(report, "\"ape_translation\"")) << report;
+  // Started at the ground truth, the window has no yaw transient.
+  WriteText(dir + "/gt_start.yaml",
+            "inertial:\n  initial_state: ground_truth\n");
+  ASSERT_EQ(RunSlam("inertial -i " + dir + "/sim -o " + dir +
+                        "/out_gt --config " + dir + "/gt_start.yaml",
+                    dir + "/run_gt.log"),
+            0)
+      << ReadText(dir + "/run_gt.log");
+  EXPECT_TRUE(Contains(ReadText(dir + "/run_gt.log"), "with initial state"));
   // Both estimates follow the truth (fixes of 0.1 m at 5 Hz).
   const auto truth = ReadTum(dir + "/sim/ground_truth.tum");
   for (const char* name : {"window.tum", "batch.tum"}) {
@@ -149,12 +158,14 @@ TEST(InertialCommandTest, DumpConfigRoundTrips) {
   const std::string dir = TempDir();
   WriteText(dir + "/c.yaml",
             "inertial:\n  window_size: 7\n  estimator: window\n"
+            "  initial_state: ground_truth\n"
             "  gravity: [0, 0, -9.8]\n  lever_arm: [0.1, 0, 0]\n");
   ASSERT_EQ(RunSlam("inertial --config " + dir + "/c.yaml --dump_config",
                     dir + "/a.yaml"),
             0);
   const std::string first = ReadText(dir + "/a.yaml");
   EXPECT_TRUE(Contains(first, "window_size: 7")) << first;
+  EXPECT_TRUE(Contains(first, "initial_state: ground_truth")) << first;
   EXPECT_TRUE(Contains(first, "gravity: [0, 0, -9.8")) << first;
   ASSERT_EQ(RunSlam("inertial --config " + dir + "/a.yaml --dump_config",
                     dir + "/b.yaml"),

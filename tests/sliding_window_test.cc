@@ -29,42 +29,14 @@
 #include "factors/marginalization_prior.h"
 #include "frontends/inertial/inertial_estimator.h"
 #include "gtest/gtest.h"
+#include "tests/test_linear_cost.h"
 #include "tests/test_random.h"
 
 namespace slam {
 namespace {
 
+using testing::LinearCost;
 using testing::TestRng;
-
-// r = sum_k A_k x_k - z over Euclidean blocks.
-class LinearCost : public ceres::CostFunction {
- public:
-  LinearCost(std::vector<Eigen::MatrixXd> a, Eigen::VectorXd z)
-      : a_(std::move(a)), z_(std::move(z)) {
-    set_num_residuals(static_cast<int>(z_.size()));
-    for (const auto& m : a_) {
-      mutable_parameter_block_sizes()->push_back(static_cast<int>(m.cols()));
-    }
-  }
-  bool Evaluate(double const* const* x, double* residuals,
-                double** jacobians) const override {
-    Eigen::Map<Eigen::VectorXd> r(residuals, z_.size());
-    r = -z_;
-    for (size_t k = 0; k < a_.size(); ++k) {
-      r += a_[k] * Eigen::Map<const Eigen::VectorXd>(x[k], a_[k].cols());
-      if (jacobians != nullptr && jacobians[k] != nullptr) {
-        Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic,
-                                 Eigen::RowMajor>>(jacobians[k], a_[k].rows(),
-                                                   a_[k].cols()) = a_[k];
-      }
-    }
-    return true;
-  }
-
- private:
-  std::vector<Eigen::MatrixXd> a_;
-  Eigen::VectorXd z_;
-};
 
 Factor Linear(const std::vector<Key>& keys, TestRng* rng) {
   std::vector<Eigen::MatrixXd> a;
