@@ -168,7 +168,8 @@ int RunInertialSimulation(const SimulationConfig& config,
   const ImuNoise& n = inertial.noise;
   std::printf("simulated inertial world (seed %llu): %.6g s, %zu IMU samples "
               "at %g Hz, %zu position fixes at %g Hz\n",
-              static_cast<unsigned long long>(config.seed), inertial.duration,
+              static_cast<unsigned long long>(config.seed),
+              NsToSeconds(data.imu.back().stamp),
               data.imu.size(), inertial.imu_rate, data.positions.size(),
               inertial.position_rate);
   std::printf("IMU noise densities: gyro %g rad/s/sqrt(Hz), accel %g "

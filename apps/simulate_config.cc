@@ -48,7 +48,8 @@ bool ReadInertial(const YAML::Node& node, const std::string& where,
                        "gyro_noise_density", "accel_noise_density",
                        "gyro_random_walk", "accel_random_walk",
                        "initial_gyro_bias", "initial_accel_bias",
-                       "trajectory"},
+                       "trajectory", "trajectory_file",
+                       "trajectory_times_file", "trajectory_y_down"},
                       where, error) ||
       !ReadOptional(node, "duration", where, &c->duration, error) ||
       !ReadOptional(node, "imu_rate", where, &c->imu_rate, error) ||
@@ -68,7 +69,13 @@ bool ReadInertial(const YAML::Node& node, const std::string& where,
       !ReadVector3(node, "initial_gyro_bias", where, &c->initial_gyro_bias,
                    error) ||
       !ReadVector3(node, "initial_accel_bias", where, &c->initial_accel_bias,
-                   error)) {
+                   error) ||
+      !ReadOptional(node, "trajectory_file", where, &c->trajectory_file,
+                    error) ||
+      !ReadOptional(node, "trajectory_times_file", where,
+                    &c->trajectory_times_file, error) ||
+      !ReadOptional(node, "trajectory_y_down", where, &c->trajectory_y_down,
+                    error)) {
     return false;
   }
   const YAML::Node t = node["trajectory"];
@@ -106,6 +113,16 @@ std::string FormatDouble(double value) {
   std::string text(buffer, result.ptr);
   if (text.find_first_of(".e") == std::string::npos) text += ".0";
   return text;
+}
+
+// A YAML double-quoted string.
+std::string Quoted(const std::string& text) {
+  std::string out = "\"";
+  for (char c : text) {
+    if (c == '"' || c == '\\') out.push_back('\\');
+    out.push_back(c);
+  }
+  return out + "\"";
 }
 
 // Lines "key: value" with aligned trailing comments.
@@ -289,6 +306,12 @@ std::string SimulationConfigToYaml(const SimulationConfig& config) {
             "[m/s^3/sqrt(Hz)]");
   out.Value(4, "initial_gyro_bias", in.initial_gyro_bias, "[rad/s]");
   out.Value(4, "initial_accel_bias", in.initial_accel_bias, "[m/s^2]");
+  out.Value(4, "trajectory_file", Quoted(in.trajectory_file),
+            "spline through this file instead of the curve below");
+  out.Value(4, "trajectory_times_file", Quoted(in.trajectory_times_file),
+            "KITTI: its times file");
+  out.Value(4, "trajectory_y_down", in.trajectory_y_down ? "true" : "false",
+            "the file's world has y down (KITTI)");
   const LissajousParams& p = in.trajectory;
   out.Section(4, "trajectory", "p = center + amplitude .* sin(f t + phase)");
   out.Value(6, "center", p.center, "[m]");

@@ -37,6 +37,9 @@
 //       accel_random_walk: 3.0e-3
 //       initial_gyro_bias: [0.002, -0.001, 0.0015]
 //       initial_accel_bias: [0.03, -0.02, 0.05]
+//       trajectory_file: ""     # spline through a recorded trajectory
+//       trajectory_times_file: ""  # (KITTI: its times file)
+//       trajectory_y_down: false   # the file's world has y down (KITTI)
 //       trajectory:             # datasets/inertial_trajectory.h
 //         center: [0, 0, 2]
 //         amplitude: [10, 5, 1]

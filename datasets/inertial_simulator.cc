@@ -1,8 +1,10 @@
 #include "datasets/inertial_simulator.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "datasets/simulation_random.h"
+#include "datasets/trajectory_io.h"
 
 namespace slam {
 namespace {
@@ -75,8 +77,31 @@ bool ValidateInertialSimulationConfig(const InertialSimulationConfig& config,
 bool SimulateInertial(const InertialSimulationConfig& config,
                       InertialData* data, std::string* error) {
   if (!ValidateInertialSimulationConfig(config, error)) return false;
+  if (config.trajectory_file.empty()) {
+    return SimulateInertial(config, LissajousTrajectory(config.trajectory),
+                            data, error);
+  }
+  TrajectoryReadOptions options;
+  options.kitti_times_path = config.trajectory_times_file;
+  TrajectoryData recorded;
+  if (!ReadTrajectory(config.trajectory_file, options, &recorded, error)) {
+    return false;
+  }
+  SplineTrajectory spline;
+  if (!spline.Fit(recorded.poses, config.trajectory_y_down, error)) {
+    *error = config.trajectory_file + ": " + *error;
+    return false;
+  }
+  return SimulateInertial(config, spline, data, error);
+}
+
+bool SimulateInertial(const InertialSimulationConfig& config_in,
+                      const SmoothTrajectory& trajectory, InertialData* data,
+                      std::string* error) {
+  if (!ValidateInertialSimulationConfig(config_in, error)) return false;
+  InertialSimulationConfig config = config_in;
+  config.duration = std::min(config.duration, trajectory.duration());
   SimulationRandom random(config.seed);
-  const LissajousTrajectory trajectory(config.trajectory);
   const ImuNoise& noise = config.noise;
   const double dt = 1.0 / config.imu_rate;
   const double sigma_g = noise.gyro_noise_density / std::sqrt(dt);

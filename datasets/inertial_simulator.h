@@ -1,8 +1,9 @@
 // Synthetic inertial datasets: IMU readings with white noise and random-walk
-// biases, and noisy position fixes, generated from the smooth analytic
-// trajectory of datasets/inertial_trajectory.h (a Lissajous figure eight with
-// varying attitude), with ground truth (pose, velocity, biases) at every IMU
-// sample.
+// biases, and noisy position fixes, generated from a smooth trajectory of
+// datasets/inertial_trajectory.h (the built-in Lissajous figure eight with
+// varying attitude, or a C2 B-spline through a recorded trajectory such as
+// KITTI's ground truth), with ground truth (pose, velocity, biases) at every
+// IMU sample.
 //
 // Sensor model (core/imu_preintegration.h conventions), at sample k, stamp
 // t_k = k / imu_rate, dt = 1 / imu_rate:
@@ -42,6 +43,14 @@ struct InertialSimulationConfig {
   Eigen::Vector3d initial_accel_bias = Eigen::Vector3d(0.03, -0.02, 0.05);
   Eigen::Vector3d gravity = DefaultGravity();
   LissajousParams trajectory;
+  // Instead of the Lissajous curve: a spline (SplineTrajectory) through the
+  // poses of this trajectory file (any format datasets/trajectory_io.h
+  // reads; KITTI needs trajectory_times_file). Stamps of the output start at
+  // 0 at the spline's first valid time; the duration is capped at the
+  // spline's.
+  std::string trajectory_file;
+  std::string trajectory_times_file;
+  bool trajectory_y_down = false;  // The file's world has y down (KITTI).
   uint64_t seed = 1;
 };
 
@@ -52,8 +61,15 @@ bool ValidateInertialSimulationConfig(const InertialSimulationConfig& config,
 
 // Fills *data (overwritten): imu, positions, ground_truth (one per IMU
 // sample), gravity; has_initial_state with the true state at t = 0.
+// Errors: invalid config, unreadable trajectory file ("PATH:LINE: ...").
 bool SimulateInertial(const InertialSimulationConfig& config,
                       InertialData* data, std::string* error);
+
+// The same from a given trajectory (config.trajectory* ignored); the
+// duration is capped at trajectory.duration().
+bool SimulateInertial(const InertialSimulationConfig& config,
+                      const SmoothTrajectory& trajectory, InertialData* data,
+                      std::string* error);
 
 }  // namespace slam
 

@@ -8,6 +8,7 @@
 //     bias random-walk statistics against the datasheet densities,
 //     noise-free readings integrate to the ground truth, determinism.
 #include <Eigen/Core>
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -65,6 +66,130 @@ InertialSimulationConfig NoiseFree() {
   return config;
 }
 
+// Predicts the ground truth 0.5 s (100 samples) ahead from the ground truth
+// every `step` samples with the readings; errors within `tolerance` (m,
+// m/s) and `rotation_tolerance` (rad).
+void ExpectReadingsReproduceTruth(const InertialData& data, size_t step,
+                                  double tolerance, double rotation_tolerance) {
+  for (size_t k = 0; k + 100 < data.ground_truth.size(); k += step) {
+    const InertialGroundTruth& gi = data.ground_truth[k];
+    const InertialGroundTruth& gj = data.ground_truth[k + 100];
+    PreintegratedImu pim(ImuNoise(), gi.bias, data.gravity);
+    ASSERT_TRUE(IntegrateImuSamples(data.imu, gi.stamp, gj.stamp, &pim));
+    const NavState predicted = pim.Predict({gi.pose, gi.velocity}, gi.bias);
+    EXPECT_LT((predicted.pose.t - gj.pose.t).norm(), tolerance) << k;
+    EXPECT_LT((predicted.velocity - gj.velocity).norm(), tolerance) << k;
+    EXPECT_LT(
+        QuaternionLog<double>(predicted.pose.q.conjugate() * gj.pose.q).norm(),
+        rotation_tolerance)
+        << k;
+  }
+}
+
+// A spline through the Lissajous curve sampled at 10 Hz (uneven stamps).
+SplineTrajectory SplineThroughLissajous(const LissajousTrajectory& curve) {
+  std::vector<StampedPose> poses;
+  for (int k = 0; k < 300; ++k) {
+    const double t = 0.1 * k + (k % 3 == 1 ? 0.004 : 0.0);
+    poses.push_back({SecondsToNs(t), curve.Evaluate(t).pose});
+  }
+  SplineTrajectory spline;
+  std::string error;
+  EXPECT_TRUE(spline.Fit(poses, false, &error)) << error;
+  return spline;
+}
+
+// Derivatives of any trajectory against central differences.
+void ExpectConsistentDerivatives(const SmoothTrajectory& traj, double t,
+                                 double tolerance) {
+  const double h = 1e-5;
+  const TrajectorySample s = traj.Evaluate(t);
+  const TrajectorySample sp = traj.Evaluate(t + h);
+  const TrajectorySample sm = traj.Evaluate(t - h);
+  const Eigen::Vector3d w_num =
+      QuaternionLog<double>(sm.pose.q.conjugate() * sp.pose.q) / (2 * h);
+  EXPECT_LT(((sp.pose.t - sm.pose.t) / (2 * h) - s.velocity).norm(), tolerance)
+      << "t = " << t;
+  EXPECT_LT(((sp.velocity - sm.velocity) / (2 * h) - s.acceleration).norm(),
+            tolerance)
+      << "t = " << t;
+  EXPECT_LT((w_num - s.omega).norm(), tolerance) << "t = " << t;
+}
+
+TEST(SplineTrajectoryTest, DerivativesAndContinuity) {
+  const LissajousTrajectory curve;
+  const SplineTrajectory spline = SplineThroughLissajous(curve);
+  EXPECT_NEAR(spline.duration(), 29.9 - 2 * 29.9 / 299, 1e-9);
+  // Away from the knots (every 0.1 s), where the jerk jumps.
+  for (double t : {0.0123, 1.05, 7.73, 15.33, 28.04}) {
+    ExpectConsistentDerivatives(spline, t, 1e-7);
+  }
+  // C2: position, velocity, acceleration and rate continuous across a knot.
+  const double h = spline.duration() / 297;  // the knot spacing
+  for (int knot : {5, 100, 250}) {
+    const TrajectorySample a = spline.Evaluate(knot * h - 1e-9);
+    const TrajectorySample b = spline.Evaluate(knot * h + 1e-9);
+    EXPECT_LT((a.pose.t - b.pose.t).norm(), 1e-7);
+    EXPECT_LT((a.velocity - b.velocity).norm(), 1e-6);
+    EXPECT_LT((a.acceleration - b.acceleration).norm(), 1e-5);
+    EXPECT_LT((a.omega - b.omega).norm(), 1e-6);
+  }
+  // The spline smooths the samples: close to the curve it came from
+  // (knots 0.1 s apart on a curve of radius ~5-10 m: a few mm).
+  for (double t : {2.0, 10.0, 20.0}) {
+    const double t_rec = t + 0.1;  // t = 0 is the second knot.
+    EXPECT_LT((spline.Evaluate(t).pose.t - curve.Evaluate(t_rec).pose.t).norm(),
+              0.01);
+    EXPECT_LT(QuaternionLog<double>(spline.Evaluate(t).pose.q.conjugate() *
+                                    curve.Evaluate(t_rec).pose.q)
+                  .norm(),
+              0.01);
+  }
+  std::vector<StampedPose> few(3);
+  SplineTrajectory bad;
+  std::string error;
+  EXPECT_FALSE(bad.Fit(few, false, &error));
+}
+
+TEST(SplineTrajectoryTest, KittiGroundTruthDrivesTheSimulator) {
+  const std::string gt = DatasetPath("trajectories_evo/KITTI_00_gt.txt");
+  const std::string times =
+      DatasetPath("trajectories_evo/KITTI_00_gt_times.txt");
+  SLAM_REQUIRE_DATASET(gt);
+  SLAM_REQUIRE_DATASET(times);
+  InertialSimulationConfig config = NoiseFree();
+  config.trajectory_file = gt;
+  config.trajectory_times_file = times;
+  config.trajectory_y_down = true;
+  config.duration = 60.0;
+  InertialData data;
+  std::string error;
+  ASSERT_TRUE(SimulateInertial(config, &data, &error)) << error;
+  ASSERT_EQ(data.imu.size(), 12001u);
+  // A car on a z-up world: the accelerometer sees about +g on the up axis
+  // of the world, i.e. |accel| ~ 9.81 and the vertical motion is small.
+  double max_vertical_speed = 0.0;
+  for (const InertialGroundTruth& g : data.ground_truth) {
+    max_vertical_speed = std::max(max_vertical_speed, std::abs(g.velocity.z()));
+  }
+  EXPECT_LT(max_vertical_speed, 1.0);
+  EXPECT_NEAR(data.imu[6000].accel.norm(), 9.81, 2.0);
+  // Noise-free readings integrate to the spline's ground truth.
+  ExpectReadingsReproduceTruth(data, 1000, 1e-3, 1e-3);
+  SplineTrajectory spline;
+  TrajectoryReadOptions options;
+  options.kitti_times_path = times;
+  TrajectoryData recorded;
+  ASSERT_TRUE(ReadTrajectory(gt, options, &recorded, &error)) << error;
+  ASSERT_TRUE(spline.Fit(recorded.poses, true, &error)) << error;
+  for (double t : {10.0, 100.0, 300.0}) {
+    ExpectConsistentDerivatives(spline, t, 1e-5);
+  }
+  config.trajectory_file = DatasetPath("trajectories_evo/absent.txt");
+  EXPECT_FALSE(SimulateInertial(config, &data, &error));
+  EXPECT_TRUE(Contains(error, "absent.txt")) << error;
+}
+
 TEST(InertialSimulatorTest, NoiseFreeReadingsIntegrateToTheGroundTruth) {
   InertialSimulationConfig config = NoiseFree();
   config.duration = 10.0;
@@ -78,19 +203,7 @@ TEST(InertialSimulatorTest, NoiseFreeReadingsIntegrateToTheGroundTruth) {
   EXPECT_EQ(data.imu[200].stamp, 1000000000);
   // Keyframes every 0.5 s: prediction from the true state with the true
   // bias reproduces the next true state (second-order integration error).
-  for (int k = 0; k + 100 < 2001; k += 100) {
-    const InertialGroundTruth& gi = data.ground_truth[k];
-    const InertialGroundTruth& gj = data.ground_truth[k + 100];
-    PreintegratedImu pim(ImuNoise(), gi.bias, data.gravity);
-    ASSERT_TRUE(IntegrateImuSamples(data.imu, gi.stamp, gj.stamp, &pim));
-    const NavState predicted = pim.Predict({gi.pose, gi.velocity}, gi.bias);
-    EXPECT_LT((predicted.pose.t - gj.pose.t).norm(), 1e-5) << k;
-    EXPECT_LT((predicted.velocity - gj.velocity).norm(), 1e-5) << k;
-    EXPECT_LT(
-        QuaternionLog<double>(predicted.pose.q.conjugate() * gj.pose.q).norm(),
-        1e-6)
-        << k;
-  }
+  ExpectReadingsReproduceTruth(data, 100, 1e-5, 1e-6);
   // Position fixes: the antenna at the lever arm.
   for (const PositionFix& f : data.positions) {
     const size_t k = static_cast<size_t>(f.stamp / 5000000);
