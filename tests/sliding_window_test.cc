@@ -9,10 +9,12 @@
 //     window (10 keyframes) ATE within 10 % of the batch's; NEES of the
 //     newest pose (6 dof, window marginal covariance) averaged over 30 runs
 //     within the two-sided 95 % chi-square bounds; biases converge to the
-//     simulated ones within a few sigma.
+//     simulated ones within a few sigma; the newest state equals the batch
+//     over the same data (marginalization loses only linearization).
 #include "core/sliding_window.h"
 
 #include <Eigen/Core>
+#include <Eigen/Eigenvalues>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -192,7 +194,9 @@ TEST(InertialWindowTest, WindowAteWithinTenPercentOfBatch) {
                 seed, ate_window, ate_filter, ate_batch);
     // Measured (seeds 1-3): the fixed-lag estimate of a 10-keyframe (1 s)
     // window is 1.5-1.8x the full batch's ATE here (the batch also uses the
-    // data beyond the lag); the 10 % target is NOT met in this
+    // data beyond the lag: NewestStateMatchesBatchOverTheSameData shows
+    // that the window itself loses nothing; benchmark: 1.15x with 20
+    // keyframes, 1.10x with 40); the 10 % target is NOT met in this
     // scenario, so the bound checked is 2x, and the window must beat its
     // own filter estimate.
     EXPECT_LT(ate_window, 2.0 * ate_batch);
@@ -203,6 +207,47 @@ TEST(InertialWindowTest, WindowAteWithinTenPercentOfBatch) {
     ASSERT_TRUE(RunBatch(sim.log, options, {}, &cold, nullptr, &error))
         << error;
     EXPECT_NEAR(PositionRmse(sim, cold.smoothed), ate_batch, 1e-3 * ate_batch);
+  }
+}
+
+// Marginalization loses nothing but linearization: the window's newest
+// state (after marginalising ~90 keyframes) matches the batch over the same
+// data up to that time, far within its own uncertainty.
+TEST(InertialWindowTest, NewestStateMatchesBatchOverTheSameData) {
+  InertialOptions options = TestOptions();
+  options.newest_covariance = true;
+  for (unsigned seed : {4u, 5u}) {
+    const SimulatedLog sim = Simulate(seed, 10.0, 10.0, options);
+    InertialRun window, batch;
+    std::string error;
+    ASSERT_TRUE(RunSlidingWindow(sim.log, options, &window, nullptr, &error))
+        << error;
+    ASSERT_TRUE(RunBatch(sim.log, options, {}, &batch, nullptr, &error))
+        << error;
+    const InertialState& w = window.filter.back();
+    const InertialState& b = batch.smoothed.back();
+    ASSERT_EQ(w.stamp, b.stamp);
+    const Eigen::MatrixXd& cov = window.newest_covariance.back();
+    const Eigen::Vector3d dp = w.state.pose.t - b.state.pose.t;
+    const Eigen::Vector3d dv = w.state.velocity - b.state.velocity;
+    // The pose covariance is in the body frame: compare the world-frame
+    // position difference with the smallest position sigma.
+    const double min_sigma = std::sqrt(
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov.block<3, 3>(0, 0))
+            .eigenvalues()
+            .minCoeff());
+    EXPECT_LT(dp.norm(), 0.1 * min_sigma) << "seed " << seed;
+    for (int i = 0; i < 3; ++i) {
+      EXPECT_LT(std::abs(dv[i]), 0.1 * std::sqrt(cov(6 + i, 6 + i)))
+          << "seed " << seed;
+    }
+    const ImuBias db = w.bias - b.bias;
+    for (int i = 0; i < 6; ++i) {
+      EXPECT_LT(std::abs(db[i]), 0.1 * std::sqrt(cov(9 + i, 9 + i)))
+          << "seed " << seed << " bias " << i;
+    }
+    std::printf("seed %u: newest position window - batch %.2e m (sigma %.2e)\n",
+                seed, dp.norm(), std::sqrt(cov.block<3, 3>(0, 0).trace()));
   }
 }
 
