@@ -185,7 +185,8 @@ void InterpolatedReading(const std::vector<ImuSample>& samples, TimeNs t,
 }  // namespace
 
 bool IntegrateImuSamples(const std::vector<ImuSample>& samples, TimeNs t_begin,
-                         TimeNs t_end, PreintegratedImu* pim) {
+                         TimeNs t_end, PreintegratedImu* pim,
+                         ImuInterpolation interpolation) {
   if (t_end <= t_begin || samples.empty()) return false;
   // Cut points: t_begin, the sample stamps strictly inside, t_end.
   std::vector<TimeNs> cuts = {t_begin};
@@ -200,13 +201,21 @@ bool IntegrateImuSamples(const std::vector<ImuSample>& samples, TimeNs t_begin,
   Eigen::Vector3d a0, g0, a1, g1;
   InterpolatedReading(samples, cuts[0], &a0, &g0);
   for (size_t k = 1; k < cuts.size(); ++k) {
-    InterpolatedReading(samples, cuts[k], &a1, &g1);
-    if (!result.Integrate(0.5 * (a0 + a1), 0.5 * (g0 + g1),
-                          NsToSeconds(cuts[k] - cuts[k - 1]))) {
-      return false;
+    const double dt = NsToSeconds(cuts[k] - cuts[k - 1]);
+    bool ok;
+    if (interpolation == ImuInterpolation::kHold) {
+      auto at = std::upper_bound(
+          samples.begin(), samples.end(), cuts[k - 1],
+          [](TimeNs s, const ImuSample& sample) { return s < sample.stamp; });
+      if (at != samples.begin()) --at;  // The last sample at or before.
+      ok = result.Integrate(at->accel, at->gyro, dt);
+    } else {
+      InterpolatedReading(samples, cuts[k], &a1, &g1);
+      ok = result.Integrate(0.5 * (a0 + a1), 0.5 * (g0 + g1), dt);
+      a0 = a1;
+      g0 = g1;
     }
-    a0 = a1;
-    g0 = g1;
+    if (!ok) return false;
   }
   *pim = result;
   return true;

@@ -215,17 +215,28 @@ struct ImuSample {
   Eigen::Vector3d gyro = Eigen::Vector3d::Zero();
 };
 
+// How readings between sample stamps are modelled.
+enum class ImuInterpolation {
+  kLinear,  // Linear in time between samples (samples AT their stamps, as
+            // real IMUs and EuRoC files deliver them): second order.
+  kHold,    // Each sample held until the next stamp (a sample covers
+            // [stamp, next stamp), as GTSAM's ImuFactorsExample integrates
+            // the rows of its CSV file).
+};
+
 // Integrates the readings over [t_begin, t_end] into *pim (appending to what
 // it holds). `samples` must be sorted by stamp (strictly increasing). The
-// readings are interpolated linearly in time between samples (held constant
-// before the first and after the last one); the interval is cut at every
-// sample stamp inside it and each piece is integrated with the interpolated
-// reading at its middle, i.e. the mean of its end readings: second-order
-// accurate, and keyframe stamps need not coincide with sample stamps.
+// interval is cut at every sample stamp inside it; with kLinear each piece
+// is integrated with the interpolated reading at its middle, i.e. the mean
+// of its end readings; with kHold with the sample at or before its start.
+// Outside the samples' span the first / last reading is held. Keyframe
+// stamps need not coincide with sample stamps.
 // False (and *pim untouched) when t_end <= t_begin, there is no sample, or a
 // reading is not finite.
-bool IntegrateImuSamples(const std::vector<ImuSample>& samples, TimeNs t_begin,
-                         TimeNs t_end, PreintegratedImu* pim);
+bool IntegrateImuSamples(
+    const std::vector<ImuSample>& samples, TimeNs t_begin, TimeNs t_end,
+    PreintegratedImu* pim,
+    ImuInterpolation interpolation = ImuInterpolation::kLinear);
 
 // Right Jacobian of SO(3) at phi (full angle): Exp(phi + d) ~ Exp(phi)
 // Exp(Jr(phi) d); and its inverse: Log(Exp(phi) Exp(d)) ~ phi + Jr^-1 d.

@@ -182,6 +182,7 @@ bool ReadGtsamImuCsv(const std::string& path, double imu_dt, InertialData* data,
   if (!text::ReadWholeFile(path, &contents, error)) return false;
   InertialData out;
   out.gravity = Eigen::Vector3d::Zero();
+  out.interpolation = ImuInterpolation::kHold;
   CsvLines csv(contents);
   int64_t num_imu = 0;
   double v[10];

@@ -84,6 +84,9 @@ struct InertialData {
   std::vector<ImuSample> imu;
   std::vector<PositionFix> positions;
   std::vector<InertialGroundTruth> ground_truth;  // May be empty.
+  // How to integrate `imu` (IntegrateImuSamples): kHold for the GTSAM CSV
+  // (rows held over dt), kLinear for EuRoC folders and the simulator.
+  ImuInterpolation interpolation = ImuInterpolation::kLinear;
   // GTSAM CSV: the "i" row (velocity included).
   bool has_initial_state = false;
   NavState initial_state;

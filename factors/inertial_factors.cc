@@ -2,6 +2,7 @@
 
 #include <Eigen/Cholesky>
 #include <cmath>
+#include <vector>
 
 #include "core/information.h"
 #include "factors/bias_random_walk.h"
@@ -34,6 +35,37 @@ bool SqrtInformationFromCovariance(const Eigen::MatrixXd& covariance,
   const int n = static_cast<int>(covariance.rows());
   *sqrt_information = llt.matrixL().solve(Eigen::MatrixXd::Identity(n, n));
   return sqrt_information->allFinite();
+}
+
+bool AddInertialState(Graph* graph, int64_t id, TimeNs stamp,
+                      const NavState& state, const ImuBias& bias) {
+  const Key keys[3] = {Pose3Key(id), VelocityKey(id), ImuBiasKey(id)};
+  for (const Key& key : keys) {
+    if (graph->HasNode(key)) return false;
+  }
+  const Eigen::Vector3d& v = state.velocity;
+  const std::vector<double> values[3] = {
+      Pose3Value(state.pose),
+      {v.x(), v.y(), v.z()},
+      std::vector<double>(bias.data(), bias.data() + 6)};
+  for (int k = 0; k < 3; ++k) {
+    Node* node = graph->AddNode(keys[k], values[k]);
+    node->stamp = stamp;
+    node->has_stamp = true;
+  }
+  return true;
+}
+
+bool GetInertialState(const Graph& graph, int64_t id, NavState* state,
+                      ImuBias* bias) {
+  const Node* pose = graph.FindNode(Pose3Key(id));
+  const Node* velocity = graph.FindNode(VelocityKey(id));
+  const Node* b = graph.FindNode(ImuBiasKey(id));
+  if (pose == nullptr || velocity == nullptr || b == nullptr) return false;
+  state->pose = NodePose3(*pose);
+  state->velocity = Eigen::Map<const Eigen::Vector3d>(velocity->value.data());
+  *bias = Eigen::Map<const ImuBias>(b->value.data());
+  return true;
 }
 
 bool MakeImuFactor(const Key& pose_i, const Key& vel_i, const Key& bias_i,

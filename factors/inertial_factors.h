@@ -19,8 +19,10 @@
 #define SLAM_FACTORS_INERTIAL_FACTORS_H_
 
 #include <Eigen/Core>
+#include <cstdint>
 #include <string>
 
+#include "core/conventions.h"
 #include "core/graph.h"
 #include "core/imu_preintegration.h"
 #include "core/keys.h"
@@ -28,7 +30,8 @@
 namespace slam {
 
 // Fails when the preintegration holds no sample or its covariance is not
-// positive definite.
+// positive definite (one reading alone gives a rank-6 covariance: velocity
+// and position noise are then perfectly correlated; integrate two or more).
 bool MakeImuFactor(const Key& pose_i, const Key& vel_i, const Key& bias_i,
                    const Key& pose_j, const Key& vel_j,
                    const PreintegratedImu& pim, Factor* factor,
@@ -52,6 +55,17 @@ bool MakePriorVelocity(const Key& velocity, const Eigen::Vector3d& z,
 bool MakePriorBias(const Key& bias, const ImuBias& z,
                    const Eigen::Matrix<double, 6, 6>& information,
                    Factor* factor, std::string* error);
+
+// Adds the three nodes of an inertial state at `stamp`: Pose3Key(id),
+// VelocityKey(id) and ImuBiasKey(id), all with has_stamp. False (and no
+// node added) if any of the keys exists.
+bool AddInertialState(Graph* graph, int64_t id, TimeNs stamp,
+                      const NavState& state, const ImuBias& bias);
+
+// The state and bias stored in the nodes of AddInertialState; false if a
+// node is missing.
+bool GetInertialState(const Graph& graph, int64_t id, NavState* state,
+                      ImuBias* bias);
 
 // Square-root information of a covariance: a matrix S with
 // S^T S = covariance^-1 (S = C^-1 for covariance = C C^T), so that r = S e

@@ -173,6 +173,27 @@ TEST(ImuPreintegrationTest, IntegratesStampedSamplesBetweenKeyframes) {
   EXPECT_EQ(pim.num_samples(), 201);
 }
 
+TEST(ImuPreintegrationTest, HoldInterpolationHoldsEachSample) {
+  std::vector<ImuSample> samples(2);
+  samples[0].stamp = 0;
+  samples[0].accel = Eigen::Vector3d(0.1, 0.2, 9.8);
+  samples[0].gyro = Eigen::Vector3d(0.3, -0.1, 0.2);
+  samples[1].stamp = 10000000;
+  samples[1].accel = Eigen::Vector3d(-0.4, 0.5, 9.7);
+  samples[1].gyro = Eigen::Vector3d(-0.2, 0.4, 0.1);
+  // [2 ms, 25 ms]: sample 0 over 8 ms, sample 1 over 15 ms.
+  PreintegratedImu held, expected, linear;
+  ASSERT_TRUE(IntegrateImuSamples(samples, 2000000, 25000000, &held,
+                                  ImuInterpolation::kHold));
+  expected.Integrate(samples[0].accel, samples[0].gyro, 0.008);
+  expected.Integrate(samples[1].accel, samples[1].gyro, 0.015);
+  EXPECT_LT((held.delta_p() - expected.delta_p()).norm(), 1e-15);
+  EXPECT_LT((held.delta_v() - expected.delta_v()).norm(), 1e-15);
+  EXPECT_LT((held.covariance() - expected.covariance()).norm(), 1e-15);
+  ASSERT_TRUE(IntegrateImuSamples(samples, 2000000, 25000000, &linear));
+  EXPECT_GT((linear.delta_v() - expected.delta_v()).norm(), 1e-4);
+}
+
 TEST(ImuPreintegrationTest, RejectsBadSamples) {
   PreintegratedImu pim;
   const Eigen::Vector3d a(0, 0, 9.81), g(0.1, 0, 0);
@@ -595,14 +616,23 @@ TEST(InertialFactorsTest, FactorsEnterTheGraph) {
   const NavState s0 = StateAt(traj, 0.0);
   const NavState s1 = pim.Predict(s0, ImuBias::Zero());
   Graph graph;
-  ASSERT_NE(graph.AddNode(Pose3Key(0), Pose3Value(s0.pose)), nullptr);
-  ASSERT_NE(graph.AddNode(Pose3Key(1), Pose3Value(s1.pose)), nullptr);
-  const Eigen::Vector3d& v0 = s0.velocity;
-  const Eigen::Vector3d& v1 = s1.velocity;
-  ASSERT_NE(graph.AddNode(VelocityKey(0), {v0.x(), v0.y(), v0.z()}), nullptr);
-  ASSERT_NE(graph.AddNode(VelocityKey(1), {v1.x(), v1.y(), v1.z()}), nullptr);
-  ASSERT_NE(graph.AddNode(ImuBiasKey(0), std::vector<double>(6, 0.0)), nullptr);
-  ASSERT_NE(graph.AddNode(ImuBiasKey(1), std::vector<double>(6, 0.0)), nullptr);
+  ASSERT_TRUE(AddInertialState(&graph, 0, 0, s0, ImuBias::Zero()));
+  ImuBias b1;
+  b1 << 1, 2, 3, 4, 5, 6;
+  ASSERT_TRUE(AddInertialState(&graph, 1, 200000000, s1, b1));
+  EXPECT_FALSE(AddInertialState(&graph, 1, 0, s1, b1));  // Exists.
+  EXPECT_EQ(graph.NumNodes(), 6u);
+  EXPECT_TRUE(graph.FindNode(VelocityKey(1))->has_stamp);
+  EXPECT_EQ(graph.FindNode(ImuBiasKey(1))->stamp, 200000000);
+  NavState back;
+  ImuBias b_back;
+  ASSERT_TRUE(GetInertialState(graph, 1, &back, &b_back));
+  EXPECT_EQ(back.velocity, s1.velocity);
+  EXPECT_EQ(b_back, b1);
+  EXPECT_LT((back.pose.t - s1.pose.t).norm(), 1e-15);
+  EXPECT_FALSE(GetInertialState(graph, 2, &back, &b_back));
+  std::vector<double>& b1_value = graph.FindNode(ImuBiasKey(1))->value;
+  std::fill(b1_value.begin(), b1_value.end(), 0.0);
   Factor imu, rw;
   std::string error;
   ASSERT_TRUE(MakeImuFactor(Pose3Key(0), VelocityKey(0), ImuBiasKey(0),
