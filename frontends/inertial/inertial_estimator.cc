@@ -154,9 +154,10 @@ InertialState ReadState(int64_t id, TimeNs stamp,
 }
 
 InertialState GraphState(const Graph& graph, int64_t id, TimeNs stamp) {
-  return ReadState(id, stamp, graph.FindNode(Pose3Key(id))->value,
-                   graph.FindNode(VelocityKey(id))->value,
-                   graph.FindNode(ImuBiasKey(id))->value);
+  InertialState s;
+  s.stamp = stamp;
+  GetInertialState(graph, id, &s.state, &s.bias);
+  return s;
 }
 
 }  // namespace
@@ -370,11 +371,7 @@ bool RunBatch(const InertialData& data, const InertialOptions& options,
       }
     }
     value.stamp = stamp;
-    for (const auto& [key, v] : StateNodes(id, value)) {
-      Node* node = graph.AddNode(key, v);
-      node->stamp = stamp;
-      node->has_stamp = true;
-    }
+    AddInertialState(&graph, id, stamp, value.state, value.bias);
     if (!KeyframeFactors(data, plan, k, options, guess, k > 0 ? &pim : nullptr,
                          &factors, &run->num_fixes_used, error)) {
       *error = "keyframe " + std::to_string(k) + ": " + *error;
