@@ -24,8 +24,8 @@ bool Preintegrate(const InertialData& data, size_t a, size_t b,
                   const InertialOptions& options, const ImuBias& bias_lin,
                   PreintegratedImu* pim, std::string* error) {
   *pim = PreintegratedImu(options.noise, bias_lin, options.gravity);
-  if (!IntegrateImuSamples(data.imu, data.imu[a].stamp, data.imu[b].stamp,
-                           pim)) {
+  if (!IntegrateImuSamples(data.imu, data.imu[a].stamp, data.imu[b].stamp, pim,
+                           data.interpolation)) {
     *error = "IMU readings " + std::to_string(a) + ".." + std::to_string(b) +
              ": cannot integrate (non-finite value)";
     return false;

@@ -12,8 +12,9 @@
 //   keyframe k:  IMU factor (k-1 -> k), bias random walk (k-1 -> k);
 //   with a fix:  position factor (lever arm in the body frame).
 // The readings between keyframes are integrated by IntegrateImuSamples
-// (core/imu_preintegration.h: each interval with the mean of its end
-// readings, second order).
+// (core/imu_preintegration.h) with the input's interpolation (linear: each
+// interval with the mean of its end readings, second order; hold for the
+// GTSAM CSV, whose rows each cover the following 5 ms).
 // A position fix is attached to the keyframe at the IMU sample nearest in
 // time; fixes farther than one IMU period from any sample are skipped.
 #ifndef SLAM_FRONTENDS_INERTIAL_INERTIAL_ESTIMATOR_H_
