@@ -15,6 +15,7 @@ int RunInfoCommand(const std::vector<std::string>& args);
 int RunSimulateCommand(const std::vector<std::string>& args);
 int RunEvalCommand(const std::vector<std::string>& args);
 int RunRunCommand(const std::vector<std::string>& args);
+int RunInertialCommand(const std::vector<std::string>& args);
 
 }  // namespace slam
 

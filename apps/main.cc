@@ -4,6 +4,7 @@
 //   slam info FILE                               counts, components, chi2
 //   slam simulate -o DIR [flags]                 synthetic data with truth
 //   slam run --config configs/aces.yaml          2D laser SLAM on a CARMEN log
+//   slam inertial -i IN -o DIR [flags]           IMU window / batch
 //
 // `slam <command> --help` lists the flags. Every setting also has a YAML
 // form (--config FILE); --dump_config prints the effective configuration.
@@ -39,6 +40,9 @@ const std::map<std::string, Command>& Commands() {
       {"run",
        {slam::RunRunCommand,
         "2D laser SLAM on a CARMEN log: slam run --config configs/aces.yaml"}},
+      {"inertial",
+       {slam::RunInertialCommand,
+        "IMU + position fixes: slam inertial -i EUROC_DIR|GTSAM.csv -o DIR"}},
       {"simulate",
        {slam::RunSimulateCommand,
         "write a synthetic dataset with ground truth: slam simulate -o DIR"}},

@@ -18,7 +18,8 @@ bool CheckKnownKeys(const YAML::Node& node,
     for (const char* k : known) found = found || key == k;
     if (!found) {
       std::string list;
-      for (const char* k : known) list += (list.empty() ? "" : ", ") + std::string(k);
+      for (const char* k : known)
+        list += (list.empty() ? "" : ", ") + std::string(k);
       *error = where + ":" + std::to_string(entry.first.Mark().line + 1) +
                ": unknown key '" + key + "' (known: " + list + ")";
       return false;
@@ -29,7 +30,8 @@ bool CheckKnownKeys(const YAML::Node& node,
 
 bool CheckTopLevelSections(const YAML::Node& root, const std::string& where,
                            std::string* error) {
-  return CheckKnownKeys(root, {"optimize", "simulate", "eval", "run"}, where, error);
+  return CheckKnownKeys(
+      root, {"optimize", "simulate", "eval", "run", "inertial"}, where, error);
 }
 
 bool LoadYamlFile(const std::string& path, YAML::Node* root,

@@ -23,6 +23,7 @@ const char* FactorTypeName(FactorType type) {
     case FactorType::kPosition: return "position";
     case FactorType::kPriorVelocity: return "prior_velocity";
     case FactorType::kPriorBias: return "prior_bias";
+    case FactorType::kMarginalizationPrior: return "marginalization_prior";
     case FactorType::kOther: return "other";
   }
   return "other";
@@ -131,6 +132,7 @@ std::vector<Key> Graph::GaugeAnchors() const {
       parent[find(index[k])] = find(first);
     }
     if (f.keys.size() == 1) has_prior[first] = true;
+    if (f.type == FactorType::kMarginalizationPrior) has_prior[first] = true;
   }
   // A component is anchored if any member is fixed or carries a prior.
   std::vector<bool> anchored(by_index.size(), false);

@@ -58,6 +58,9 @@ enum class FactorType : uint8_t {
   kPosition,        // keys {pose}; measurement (z world (3), lever arm (3)).
   kPriorVelocity,   // keys {vel}; measurement (vx, vy, vz).
   kPriorBias,       // keys {bias}; measurement (bg, ba).
+  kMarginalizationPrior,  // Dense linear prior left by marginalization
+                          // (core/marginalization.h); counts as a prior on
+                          // every key it touches for the gauge.
   kOther,
 };
 const char* FactorTypeName(FactorType type);

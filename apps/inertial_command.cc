@@ -1,0 +1,309 @@
+// slam inertial: IMU + position-fix estimation with the sliding window
+// (fixed-lag smoother) and/or the global batch
+// (frontends/inertial/inertial_estimator.h):
+//
+//   slam inertial -i INPUT -o DIR [--config FILE] [--estimator both]
+//                 [--window_size 10] [--keyframe_rate 10] [--gt FILE|input]
+//                 [--report FILE.json] [--plot DIR]
+//
+// INPUT: an EuRoC-format folder (holding mav0/imu0/data.csv, optional
+// leica0 fixes and state_groundtruth_estimate0) or a GTSAM IMU+GPS CSV
+// (datasets/imu_io.h). Outputs in DIR (written only when everything
+// succeeded):
+//   window.tum / batch.tum              trajectory "t x y z qx qy qz qw"
+//                                       (window: each keyframe's fixed-lag
+//                                       estimate, when it left the window)
+//   window_filter.tum                   the newest state right after its
+//                                       update (real-time estimate)
+//   window_states.csv / batch_states.csv
+//       "#timestamp [ns],vx,vy,vz,bgx,bgy,bgz,bax,bay,baz" (world velocity,
+//       gyro then accel bias)
+// --gt FILE evaluates each estimate against a reference trajectory (any
+// format of `slam eval`), --gt input against the input's ground truth.
+// Settings: defaults < --config FILE (`inertial:` section, see
+// apps/inertial_config.h) < explicit flags; --dump_config prints them.
+#include <gflags/gflags.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "apps/commands.h"
+#include "apps/common_flags.h"
+#include "apps/eval_report.h"
+#include "apps/inertial_config.h"
+#include "apps/json.h"
+#include "apps/yaml_config.h"
+#include "core/sliding_window.h"
+#include "datasets/atomic_file.h"
+#include "datasets/imu_io.h"
+#include "datasets/trajectory_io.h"
+#include "frontends/inertial/inertial_estimator.h"
+
+DECLARE_string(i);
+DECLARE_string(o);
+
+DEFINE_string(estimator, "both", "inertial: window | batch | both");
+DEFINE_int32(window_size, 10, "inertial: keyframes in the sliding window");
+DEFINE_double(keyframe_rate, 10.0, "inertial: keyframe rate [Hz]");
+
+namespace slam {
+namespace {
+
+bool FlagGiven(const char* name) {
+  return !gflags::GetCommandLineFlagInfoOrDie(name).is_default;
+}
+
+bool BuildConfig(InertialConfig* config, std::string* error) {
+  if (!FLAGS_config.empty() &&
+      !LoadInertialConfig(FLAGS_config, config, error)) {
+    return false;
+  }
+  if (FlagGiven("estimator")) config->estimator = FLAGS_estimator;
+  if (FlagGiven("window_size")) {
+    config->options.window.window_size = FLAGS_window_size;
+  }
+  if (FlagGiven("keyframe_rate")) {
+    config->options.keyframe_rate_hz = FLAGS_keyframe_rate;
+  }
+  if (!ValidateInertialConfig(*config, error)) {
+    *error = "inertial." + *error;
+    return false;
+  }
+  return true;
+}
+
+bool ReadInput(const InertialConfig& config, InertialData* data,
+               std::string* error) {
+  std::string format = config.input_format;
+  if (format == "auto") {
+    format = std::filesystem::is_directory(FLAGS_i) ? "euroc" : "gtsam";
+  }
+  if (format == "euroc") return ReadEurocInertial(FLAGS_i, data, error);
+  return ReadGtsamImuCsv(FLAGS_i, kGtsamImuDt, data, error);
+}
+
+std::string StatesCsv(const std::vector<InertialState>& states) {
+  std::string out = "#timestamp [ns],vx,vy,vz,bgx,bgy,bgz,bax,bay,baz\n";
+  char buffer[64];
+  for (const InertialState& s : states) {
+    out += std::to_string(s.stamp);
+    for (int i = 0; i < 3; ++i) {
+      std::snprintf(buffer, sizeof(buffer), ",%.17g", s.state.velocity[i]);
+      out += buffer;
+    }
+    for (int i = 0; i < 6; ++i) {
+      std::snprintf(buffer, sizeof(buffer), ",%.17g", s.bias[i]);
+      out += buffer;
+    }
+    out += "\n";
+  }
+  return out;
+}
+
+bool LoadEvalSettingsSection(EvalSettings* settings, std::string* error) {
+  if (FLAGS_config.empty()) return true;
+  YAML::Node root;
+  if (!LoadYamlFile(FLAGS_config, &root, error)) return false;
+  if (!root.IsMap() || !root["eval"]) return true;
+  bool associate_auto = true;
+  return ReadEvalSettingsYaml(root["eval"], FLAGS_config + " (eval)", settings,
+                              &associate_auto, error);
+}
+
+// initial_state: ground_truth. Drops the IMU readings before the first
+// ground-truth state and starts there.
+bool StartAtGroundTruth(InertialData* data, std::string* error) {
+  if (data->ground_truth.empty()) {
+    *error = "initial_state ground_truth: the input has no ground truth";
+    return false;
+  }
+  const InertialGroundTruth& first = data->ground_truth.front();
+  size_t s = 0;
+  while (s < data->imu.size() && data->imu[s].stamp < first.stamp) ++s;
+  if (s == data->imu.size()) {
+    *error =
+        "initial_state ground_truth: no IMU reading after the first "
+        "ground-truth state";
+    return false;
+  }
+  data->imu.erase(data->imu.begin(), data->imu.begin() + s);
+  // The ground-truth state at (or just before) the first kept reading.
+  const InertialGroundTruth* start = &first;
+  for (const InertialGroundTruth& g : data->ground_truth) {
+    if (g.stamp > data->imu.front().stamp) break;
+    start = &g;
+  }
+  data->has_initial_state = true;
+  data->initial_state.pose = start->pose;
+  data->initial_state.velocity = start->velocity;
+  return true;
+}
+
+struct Estimate {
+  std::string name;  // "window", "window_filter", "batch"
+  Trajectory trajectory;
+};
+
+}  // namespace
+
+int RunInertialCommand(const std::vector<std::string>& args) {
+  std::string error;
+  InertialConfig config;
+  if (!BuildConfig(&config, &error)) {
+    std::cerr << "slam inertial: " << error << "\n";
+    return 1;
+  }
+  if (FLAGS_dump_config) {
+    std::cout << InertialConfigToYaml(config);
+    return 0;
+  }
+  if (FLAGS_i.empty() || FLAGS_o.empty() || !args.empty()) {
+    std::cerr << "usage: slam inertial -i INPUT -o DIR [--config FILE] "
+                 "[--gt FILE|input]\n";
+    return 2;
+  }
+  InertialData data;
+  if (!ReadInput(config, &data, &error)) {
+    std::cerr << "slam inertial: " << error << "\n";
+    return 1;
+  }
+  if (config.gravity_auto) config.options.gravity = data.gravity;
+  if (config.initial_state == "ground_truth" &&
+      !StartAtGroundTruth(&data, &error)) {
+    std::cerr << "slam inertial: " << FLAGS_i << ": " << error << "\n";
+    return 1;
+  }
+  TrajectoryData gt;
+  const bool evaluate = !FLAGS_gt.empty();
+  if (FLAGS_gt == "input") {
+    if (data.ground_truth.empty()) {
+      std::cerr << "slam inertial: --gt input: " << FLAGS_i
+                << " has no ground truth\n";
+      return 1;
+    }
+    for (const InertialGroundTruth& g : data.ground_truth) {
+      gt.poses.push_back({g.stamp, g.pose});
+    }
+  } else if (evaluate && !ReadTrajectory(FLAGS_gt, {}, &gt, &error)) {
+    std::cerr << "slam inertial: " << error << "\n";
+    return 1;
+  }
+  std::printf(
+      "input %s: %zu IMU readings, %zu position fixes, gravity "
+      "(%g, %g, %g), %s initial state\n",
+      FLAGS_i.c_str(), data.imu.size(), data.positions.size(),
+      config.options.gravity.x(), config.options.gravity.y(),
+      config.options.gravity.z(), data.has_initial_state ? "with" : "without");
+
+  const bool run_window = config.estimator != "batch";
+  const bool run_batch = config.estimator != "window";
+  InertialRun window, batch;
+  std::vector<Estimate> estimates;
+  std::vector<std::pair<std::string, std::string>> files;  // name, contents
+  JsonObject report;
+  report.Add("input", FLAGS_i).Add("estimator", config.estimator);
+  if (run_window) {
+    if (!RunSlidingWindow(data, config.options, &window, &std::cout, &error)) {
+      std::cerr << "slam inertial: " << FLAGS_i << ": " << error << "\n";
+      return 1;
+    }
+    estimates.push_back({"window", ToTrajectory(window.smoothed)});
+    estimates.push_back({"window_filter", ToTrajectory(window.filter)});
+    files.emplace_back("window_states.csv", StatesCsv(window.smoothed));
+    const TimingSummary t = SummarizeTimes(window.update_seconds);
+    JsonObject timing;
+    timing.Add("updates", t.count)
+        .Add("median_ms", 1e3 * t.median)
+        .Add("p99_ms", 1e3 * t.p99)
+        .Add("max_ms", 1e3 * t.max)
+        .Add("total_s", window.total_seconds)
+        .Add("window_size", config.options.window.window_size);
+    report.Add("window", timing);
+  }
+  if (run_batch) {
+    if (!RunBatch(data, config.options,
+                  run_window ? window.smoothed : std::vector<InertialState>(),
+                  &batch, &std::cout, &error)) {
+      std::cerr << "slam inertial: " << FLAGS_i << ": " << error << "\n";
+      return 1;
+    }
+    estimates.push_back({"batch", ToTrajectory(batch.smoothed)});
+    files.emplace_back("batch_states.csv", StatesCsv(batch.smoothed));
+    JsonObject timing;
+    timing.Add("keyframes", batch.smoothed.size())
+        .Add("total_s", batch.total_seconds);
+    report.Add("batch", timing);
+  }
+
+  if (evaluate) {
+    EvalSettings settings;
+    if (!LoadEvalSettingsSection(&settings, &error)) {
+      std::cerr << "slam inertial: " << error << "\n";
+      return 1;
+    }
+    settings.association = ChooseAssociation(gt.has_stamps, true);
+    JsonObject evaluation;
+    for (const Estimate& e : estimates) {
+      EvalLabels labels;
+      labels.ref_name = "ground truth";
+      labels.est_name = e.name;
+      EvalResult result;
+      std::printf("\nevaluation of %s against %s:\n", e.name.c_str(),
+                  FLAGS_gt.c_str());
+      const std::string plot_dir =
+          FLAGS_plot.empty() ? "" : FLAGS_plot + "/" + e.name;
+      if (!EvaluateAndReport(gt.poses, e.trajectory, settings, labels, plot_dir,
+                             std::cout, &result, &error)) {
+        std::cerr << "slam inertial: evaluation of " << e.name << ": " << error
+                  << "\n";
+        return 1;
+      }
+      evaluation.Add(e.name, EvalResultJson(result, settings));
+    }
+    report.Add("evaluation", evaluation);
+  }
+
+  std::error_code ec;
+  std::filesystem::create_directories(FLAGS_o, ec);
+  if (ec) {
+    std::cerr << "slam inertial: " << FLAGS_o << ": " << ec.message() << "\n";
+    return 1;
+  }
+  for (const Estimate& e : estimates) {
+    if (!WriteTrajectory(FLAGS_o + "/" + e.name + ".tum", e.trajectory,
+                         TrajectoryFormat::kTum, &error)) {
+      std::cerr << "slam inertial: " << error << "\n";
+      return 1;
+    }
+  }
+  for (const auto& [name, contents] : files) {
+    if (!WriteFileAtomically(FLAGS_o + "/" + name, contents, &error)) {
+      std::cerr << "slam inertial: " << error << "\n";
+      return 1;
+    }
+  }
+  if (!FLAGS_report.empty() &&
+      !WriteFileAtomically(FLAGS_report, report.ToString() + "\n", &error)) {
+    std::cerr << "slam inertial: " << error << "\n";
+    return 1;
+  }
+  // Summary line.
+  std::printf("\ninertial: %s", FLAGS_i.c_str());
+  if (run_window) {
+    const TimingSummary t = SummarizeTimes(window.update_seconds);
+    std::printf(
+        ", window %zu keyframes (size %d): update median %.2f ms, p99 "
+        "%.2f ms",
+        window.smoothed.size(), config.options.window.window_size,
+        1e3 * t.median, 1e3 * t.p99);
+  }
+  if (run_batch) std::printf(", batch %.3f s", batch.total_seconds);
+  std::printf("; wrote %s\n", FLAGS_o.c_str());
+  return 0;
+}
+
+}  // namespace slam

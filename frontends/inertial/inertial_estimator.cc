@@ -1,0 +1,414 @@
+#include "frontends/inertial/inertial_estimator.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+#include "core/graph.h"
+#include "core/optimizer.h"
+#include "factors/inertial_factors.h"
+#include "factors/marginalization_prior.h"
+#include "factors/pose_factors.h"
+
+namespace slam {
+namespace {
+
+double SecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+      .count();
+}
+
+// Preintegrates the readings between samples a and b (a < b).
+bool Preintegrate(const InertialData& data, size_t a, size_t b,
+                  const InertialOptions& options, const ImuBias& bias_lin,
+                  PreintegratedImu* pim, std::string* error) {
+  *pim = PreintegratedImu(options.noise, bias_lin, options.gravity);
+  if (!IntegrateImuSamples(data.imu, data.imu[a].stamp, data.imu[b].stamp, pim,
+                           data.interpolation)) {
+    *error = "IMU readings " + std::to_string(a) + ".." + std::to_string(b) +
+             ": cannot integrate (non-finite value)";
+    return false;
+  }
+  return true;
+}
+
+// The initial state and the prior sigmas (position, rotation, velocity).
+struct InitialGuess {
+  InertialState state;
+  double position_sigma, rotation_sigma, velocity_sigma;
+};
+
+InitialGuess MakeInitialGuess(const InertialData& data,
+                              const InertialOptions& options) {
+  InitialGuess guess;
+  guess.state.stamp = data.imu.front().stamp;
+  guess.state.bias = options.initial_bias;
+  if (data.has_initial_state) {
+    guess.state.state = data.initial_state;
+
+    guess.position_sigma = options.prior_position_sigma;
+    guess.rotation_sigma = options.prior_rotation_sigma;
+    guess.velocity_sigma = options.prior_velocity_sigma;
+    return guess;
+  }
+  // At rest: the accelerometer reads R^T (-g); yaw is unknown.
+  Eigen::Vector3d up = -options.gravity;
+  if (up.norm() < 1e-9) up = Eigen::Vector3d::UnitZ();
+  const Eigen::Quaterniond q =
+      Eigen::Quaterniond::FromTwoVectors(data.imu.front().accel, up);
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  if (!data.positions.empty()) p = data.positions.front().position;
+  guess.state.state.pose = Pose3(p, q);
+  guess.position_sigma =
+      data.positions.empty() ? 1.0 : std::max(options.position_sigma, 1e-3);
+  guess.rotation_sigma = 1.0;
+  guess.velocity_sigma = 1.0;
+  return guess;
+}
+
+// Factors of keyframe k (k = 0: priors), given the preintegration from k-1.
+bool KeyframeFactors(const InertialData& data, const KeyframePlan& plan,
+                     size_t k, const InertialOptions& options,
+                     const InitialGuess& guess, const PreintegratedImu* pim,
+                     std::vector<Factor>* factors, int* fixes_used,
+                     std::string* error) {
+  factors->clear();
+  const int64_t id = static_cast<int64_t>(k);
+  Factor f;
+  if (k == 0) {
+    Eigen::Matrix<double, 6, 6> info = Eigen::Matrix<double, 6, 6>::Zero();
+    info.diagonal().head<3>().setConstant(
+        1.0 / (guess.position_sigma * guess.position_sigma));
+    // MakePriorSE3's rotation error is the quaternion vector (half angle).
+    info.diagonal().tail<3>().setConstant(
+        4.0 / (guess.rotation_sigma * guess.rotation_sigma));
+    if (!MakePriorSE3(Pose3Key(0), guess.state.state.pose, info, &f, error)) {
+      return false;
+    }
+    factors->push_back(f);
+    if (!MakePriorVelocity(VelocityKey(0), guess.state.state.velocity,
+                           Eigen::Matrix3d::Identity() /
+                               (guess.velocity_sigma * guess.velocity_sigma),
+                           &f, error)) {
+      return false;
+    }
+    factors->push_back(f);
+    Eigen::Matrix<double, 6, 6> bias_info = Eigen::Matrix<double, 6, 6>::Zero();
+    bias_info.diagonal().head<3>().setConstant(
+        1.0 / (options.prior_gyro_bias_sigma * options.prior_gyro_bias_sigma));
+    bias_info.diagonal().tail<3>().setConstant(
+        1.0 /
+        (options.prior_accel_bias_sigma * options.prior_accel_bias_sigma));
+    if (!MakePriorBias(ImuBiasKey(0), guess.state.bias, bias_info, &f, error)) {
+      return false;
+    }
+    factors->push_back(f);
+  } else {
+    if (!MakeImuFactor(Pose3Key(id - 1), VelocityKey(id - 1),
+                       ImuBiasKey(id - 1), Pose3Key(id), VelocityKey(id), *pim,
+                       &f, error)) {
+      return false;
+    }
+    factors->push_back(f);
+    if (!MakeBiasRandomWalk(ImuBiasKey(id - 1), ImuBiasKey(id), options.noise,
+                            pim->delta_t(), &f, error)) {
+      return false;
+    }
+    factors->push_back(f);
+  }
+  if (plan.fix[k] >= 0) {
+    const double s = options.position_sigma;
+    if (!MakePositionFactor(Pose3Key(id), data.positions[plan.fix[k]].position,
+                            Eigen::Matrix3d::Identity() / (s * s),
+                            options.lever_arm, &f, error)) {
+      return false;
+    }
+    factors->push_back(f);
+    ++*fixes_used;
+  }
+  return true;
+}
+
+std::vector<SlidingWindow::NodeValue> StateNodes(int64_t id,
+                                                 const InertialState& s) {
+  const Eigen::Vector3d& v = s.state.velocity;
+  return {
+      {Pose3Key(id), Pose3Value(s.state.pose)},
+      {VelocityKey(id), {v.x(), v.y(), v.z()}},
+      {ImuBiasKey(id), std::vector<double>(s.bias.data(), s.bias.data() + 6)}};
+}
+
+// Reads keyframe id's states from node values.
+InertialState ReadState(int64_t id, TimeNs stamp,
+                        const std::vector<double>& pose,
+                        const std::vector<double>& vel,
+                        const std::vector<double>& bias) {
+  InertialState s;
+  s.stamp = stamp;
+  s.state.pose = Pose3(Eigen::Vector3d(pose[0], pose[1], pose[2]),
+                       Eigen::Quaterniond(pose[6], pose[3], pose[4], pose[5]));
+  s.state.velocity = Eigen::Vector3d(vel[0], vel[1], vel[2]);
+  for (int i = 0; i < 6; ++i) s.bias[i] = bias[i];
+  return s;
+}
+
+InertialState GraphState(const Graph& graph, int64_t id, TimeNs stamp) {
+  InertialState s;
+  s.stamp = stamp;
+  GetInertialState(graph, id, &s.state, &s.bias);
+  return s;
+}
+
+}  // namespace
+
+bool PlanKeyframes(const InertialData& data, double keyframe_rate_hz,
+                   KeyframePlan* plan, std::string* error) {
+  *plan = KeyframePlan();
+  if (data.imu.size() < 2) {
+    *error = "need at least two IMU readings";
+    return false;
+  }
+  if (!(keyframe_rate_hz > 0.0)) {
+    *error = "keyframe rate must be > 0";
+    return false;
+  }
+  std::vector<int64_t> dts;
+  for (size_t s = 1; s < data.imu.size(); ++s) {
+    if (data.imu[s].stamp <= data.imu[s - 1].stamp) {
+      *error = "IMU stamps do not increase at reading " + std::to_string(s);
+      return false;
+    }
+    dts.push_back(data.imu[s].stamp - data.imu[s - 1].stamp);
+  }
+  std::nth_element(dts.begin(), dts.begin() + dts.size() / 2, dts.end());
+  const int64_t imu_period = dts[dts.size() / 2];
+  // Fix -> nearest sample.
+  std::vector<int> fix_at(data.imu.size(), -1);
+  for (size_t f = 0; f < data.positions.size(); ++f) {
+    const TimeNs t = data.positions[f].stamp;
+    auto it = std::lower_bound(
+        data.imu.begin(), data.imu.end(), t,
+        [](const ImuSample& m, TimeNs v) { return m.stamp < v; });
+    size_t s = static_cast<size_t>(it - data.imu.begin());
+    if (s == data.imu.size() ||
+        (s > 0 && t - data.imu[s - 1].stamp < data.imu[s].stamp - t)) {
+      s = s == 0 ? 0 : s - 1;
+    }
+    if (std::llabs(data.imu[s].stamp - t) > imu_period) {
+      ++plan->skipped_fixes;
+      continue;
+    }
+    fix_at[s] = static_cast<int>(f);  // A later fix at the same sample wins.
+  }
+  const int64_t period =
+      static_cast<int64_t>(std::llround(1e9 / keyframe_rate_hz));
+  // Keyframes at least half a period apart (a very short IMU interval gives
+  // a near-singular preintegration covariance): a fix close after the last
+  // keyframe moves that keyframe to the fix when it is an ordinary one, is
+  // attached to it when it is at most one IMU period away, or is skipped.
+  plan->sample.push_back(0);
+  plan->fix.push_back(fix_at[0]);
+  std::vector<bool> forced = {true};  // The first keyframe stays.
+  for (size_t s = 1; s < data.imu.size(); ++s) {
+    const int64_t since =
+        data.imu[s].stamp - data.imu[plan->sample.back()].stamp;
+    if (fix_at[s] >= 0 && since < period / 2) {
+      if (!forced.back()) {
+        plan->sample.back() = s;
+        plan->fix.back() = fix_at[s];
+        forced.back() = true;
+      } else if (since <= imu_period && plan->fix.back() < 0) {
+        plan->fix.back() = fix_at[s];
+      } else {
+        ++plan->skipped_fixes;
+      }
+      continue;
+    }
+    if (fix_at[s] >= 0 || since >= period - imu_period / 2) {
+      plan->sample.push_back(s);
+      plan->fix.push_back(fix_at[s]);
+      forced.push_back(fix_at[s] >= 0);
+    }
+  }
+  if (plan->sample.size() < 2) {
+    *error = "the IMU log is shorter than one keyframe period";
+    return false;
+  }
+  return true;
+}
+
+bool RunSlidingWindow(const InertialData& data, const InertialOptions& options,
+                      InertialRun* run, std::ostream* progress,
+                      std::string* error) {
+  *run = InertialRun();
+  const auto start = std::chrono::steady_clock::now();
+  KeyframePlan plan;
+  if (!PlanKeyframes(data, options.keyframe_rate_hz, &plan, error)) {
+    return false;
+  }
+  const InitialGuess guess = MakeInitialGuess(data, options);
+  SlidingWindowOptions window_options = options.window;
+  window_options.prior_builder = MakeMarginalizationPrior;
+  SlidingWindow window(window_options);
+  const size_t n = plan.sample.size();
+  std::vector<Factor> factors;
+  PreintegratedImu pim(options.noise, ImuBias::Zero(), options.gravity);
+  size_t next_report = 1;
+  for (size_t k = 0; k < n; ++k) {
+    const int64_t id = static_cast<int64_t>(k);
+    const TimeNs stamp = data.imu[plan.sample[k]].stamp;
+    InertialState predicted = guess.state;
+    if (k > 0) {
+      const InertialState prev = GraphState(window.graph(), id - 1,
+                                            data.imu[plan.sample[k - 1]].stamp);
+      if (!Preintegrate(data, plan.sample[k - 1], plan.sample[k], options,
+                        prev.bias, &pim, error)) {
+        return false;
+      }
+      predicted.state = pim.Predict(prev.state, prev.bias);
+      predicted.bias = prev.bias;
+    }
+    predicted.stamp = stamp;
+    if (!KeyframeFactors(data, plan, k, options, guess, k > 0 ? &pim : nullptr,
+                         &factors, &run->num_fixes_used, error) ||
+        !window.AddKeyframe(stamp, StateNodes(id, predicted),
+                            std::move(factors), error)) {
+      *error = "keyframe " + std::to_string(k) + ": " + *error;
+      return false;
+    }
+    WindowUpdateStats stats;
+    if (!window.Update(&stats, error)) {
+      *error = "keyframe " + std::to_string(k) + ": " + *error;
+      return false;
+    }
+    run->filter.push_back(GraphState(window.graph(), id, stamp));
+    if (options.newest_covariance) {
+      std::map<Key, Eigen::MatrixXd> cov;
+      if (!window.Covariances({Pose3Key(id), VelocityKey(id), ImuBiasKey(id)},
+                              &cov, error)) {
+        *error = "keyframe " + std::to_string(k) + ": " + *error;
+        return false;
+      }
+      Eigen::MatrixXd c = Eigen::MatrixXd::Zero(15, 15);
+      c.block<6, 6>(0, 0) = cov[Pose3Key(id)];
+      c.block<3, 3>(6, 6) = cov[VelocityKey(id)];
+      c.block<6, 6>(9, 9) = cov[ImuBiasKey(id)];
+      run->newest_covariance.push_back(c);
+    }
+    if (progress != nullptr && (k + 1) * 10 >= next_report * n) {
+      const TimingSummary t = SummarizeTimes(window.update_seconds());
+      char line[200];
+      std::snprintf(line, sizeof(line),
+                    "window: keyframe %zu/%zu t=%.2f s, update median %.2f ms "
+                    "p99 %.2f ms, chi2 %.4g\n",
+                    k + 1, n, NsToSeconds(stamp - data.imu.front().stamp),
+                    1e3 * t.median, 1e3 * t.p99, stats.final_chi2);
+      *progress << line;
+      while ((k + 1) * 10 >= next_report * n) ++next_report;
+    }
+  }
+  window.Finish();
+  for (size_t k = 0; k < n; ++k) {
+    const int64_t id = static_cast<int64_t>(k);
+    const auto& v = window.final_values();
+    run->smoothed.push_back(ReadState(id, data.imu[plan.sample[k]].stamp,
+                                      v.at(Pose3Key(id)), v.at(VelocityKey(id)),
+                                      v.at(ImuBiasKey(id))));
+  }
+  run->update_seconds = window.update_seconds();
+  run->total_seconds = SecondsSince(start);
+  if (progress != nullptr) {
+    const TimingSummary t = SummarizeTimes(run->update_seconds);
+    char line[240];
+    std::snprintf(line, sizeof(line),
+                  "window: %zu keyframes, %d fixes (%d skipped), window size "
+                  "%d, update median %.2f ms p99 %.2f ms max %.2f ms, total "
+                  "%.2f s\n",
+                  n, run->num_fixes_used, plan.skipped_fixes,
+                  options.window.window_size, 1e3 * t.median, 1e3 * t.p99,
+                  1e3 * t.max, run->total_seconds);
+    *progress << line;
+  }
+  return true;
+}
+
+bool RunBatch(const InertialData& data, const InertialOptions& options,
+              const std::vector<InertialState>& init, InertialRun* run,
+              std::ostream* progress, std::string* error) {
+  *run = InertialRun();
+  const auto start = std::chrono::steady_clock::now();
+  KeyframePlan plan;
+  if (!PlanKeyframes(data, options.keyframe_rate_hz, &plan, error)) {
+    return false;
+  }
+  const size_t n = plan.sample.size();
+  if (!init.empty() && init.size() != n) {
+    *error = "batch initial values: " + std::to_string(init.size()) +
+             " states for " + std::to_string(n) + " keyframes";
+    return false;
+  }
+  const InitialGuess guess = MakeInitialGuess(data, options);
+  Graph graph;
+  std::vector<Factor> factors;
+  PreintegratedImu pim(options.noise, ImuBias::Zero(), options.gravity);
+  InertialState prev = guess.state;
+  for (size_t k = 0; k < n; ++k) {
+    const int64_t id = static_cast<int64_t>(k);
+    const TimeNs stamp = data.imu[plan.sample[k]].stamp;
+    InertialState value = init.empty() ? guess.state : init[k];
+    if (k > 0) {
+      if (!Preintegrate(data, plan.sample[k - 1], plan.sample[k], options,
+                        prev.bias, &pim, error)) {
+        return false;
+      }
+      if (init.empty()) {  // Dead reckoning, reset to the fix when present.
+        value.state = pim.Predict(prev.state, prev.bias);
+        value.bias = prev.bias;
+        if (plan.fix[k] >= 0) {
+          value.state.pose.t = data.positions[plan.fix[k]].position;
+        }
+      }
+    }
+    value.stamp = stamp;
+    AddInertialState(&graph, id, stamp, value.state, value.bias);
+    if (!KeyframeFactors(data, plan, k, options, guess, k > 0 ? &pim : nullptr,
+                         &factors, &run->num_fixes_used, error)) {
+      *error = "keyframe " + std::to_string(k) + ": " + *error;
+      return false;
+    }
+    for (Factor& f : factors) graph.AddFactor(std::move(f));
+    prev = value;
+  }
+  OptimizerOptions optimizer;
+  optimizer.verbose = options.batch_verbose;
+  optimizer.num_threads = 1;
+  const OptimizerSummary summary = Optimize(&graph, optimizer, progress);
+  if (!summary.usable) {
+    *error = "batch optimization failed: " + summary.termination;
+    return false;
+  }
+  for (size_t k = 0; k < n; ++k) {
+    run->smoothed.push_back(GraphState(graph, static_cast<int64_t>(k),
+                                       data.imu[plan.sample[k]].stamp));
+  }
+  run->total_seconds = SecondsSince(start);
+  if (progress != nullptr) {
+    char line[200];
+    std::snprintf(line, sizeof(line),
+                  "batch: %zu keyframes, %zu factors, chi2 %.6g -> %.6g in %d "
+                  "iterations, %.3f s\n",
+                  n, graph.NumFactors(), summary.initial_chi2,
+                  summary.final_chi2, summary.iterations, run->total_seconds);
+    *progress << line;
+  }
+  return true;
+}
+
+Trajectory ToTrajectory(const std::vector<InertialState>& states) {
+  Trajectory t;
+  for (const InertialState& s : states) t.push_back({s.stamp, s.state.pose});
+  return t;
+}
+
+}  // namespace slam

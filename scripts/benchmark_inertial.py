@@ -1,0 +1,138 @@
+#!/usr/bin/python3
+"""Inertial benchmark: runs `slam inertial` (sliding window and batch) on the
+entries of configs/benchmarks/inertial.yaml and prints one table as markdown
+and CSV: ATE (position RMSE, no alignment) of the window's fixed-lag
+estimate, of its real-time (filter) estimate and of the batch, their ratio,
+median and 99th-percentile per-update time of the window against the target,
+and the batch time.
+
+Usage: scripts/benchmark_inertial.py [--datasets DIR] [--slam build/apps/slam]
+       [--csv out.csv] [--md out.md] [--only SUBSTRING...]
+Runs with Debian's python3 (python3-yaml); table output and the lookup of the
+slam binary are shared with scripts/run_benchmarks.py."""
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+
+import yaml
+
+import run_benchmarks
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+COLUMNS = [
+    ("name", "run"), ("keyframes", "keyframes"), ("window_size", "window"),
+    ("ate_window", "ATE window m"), ("ate_filter", "ATE filter m"),
+    ("ate_batch", "ATE batch m"), ("ratio", "window/batch"),
+    ("median_ms", "update median ms"), ("p99_ms", "update p99 ms"),
+    ("target_ms", "target ms"), ("batch_s", "batch s"), ("ok", "ok"),
+]
+
+
+def run(cmd):
+    proc = subprocess.run(cmd, capture_output=True, text=True)
+    if proc.returncode != 0:
+        raise RuntimeError("%s failed (%d):\n%s%s" % (
+            " ".join(cmd), proc.returncode, proc.stdout, proc.stderr))
+    return proc.stdout
+
+
+def run_entry(entry, args, tmp, index):
+    work = os.path.join(tmp, str(index))
+    os.makedirs(work)
+    config = {"inertial": entry.get("inertial", {}),
+              "eval": {"align": "none"}}
+    if "simulate" in entry:
+        sim = dict(entry["simulate"])
+        config["simulate"] = {"world": {"type": "inertial"}}
+        if "seed" in sim:
+            config["simulate"]["seed"] = sim.pop("seed")
+        config["simulate"]["inertial"] = sim
+    config_path = os.path.join(work, "config.yaml")
+    with open(config_path, "w") as f:
+        yaml.safe_dump(config, f)
+    if "simulate" in entry:
+        data = os.path.join(work, "sim")
+        run([args.slam, "simulate", "--config", config_path, "-o", data])
+        gt = ["--gt", "input"]
+    else:
+        data = os.path.join(args.datasets, entry["input"])
+        if not os.path.exists(data):
+            print("skip %s: %s not found" % (entry["name"], data),
+                  file=sys.stderr)
+            return None
+        gt = []
+    report_path = os.path.join(work, "report.json")
+    out = run([args.slam, "inertial", "-i", data, "-o",
+               os.path.join(work, "out"), "--config", config_path,
+               "--report", report_path] + gt)
+    with open(report_path) as f:
+        report = json.load(f)
+    window = report.get("window", {})
+    row = {"name": entry["name"],
+           "keyframes": report.get("batch", {}).get("keyframes"),
+           "window_size": window.get("window_size"),
+           "median_ms": window.get("median_ms"),
+           "p99_ms": window.get("p99_ms"),
+           "target_ms": args.target_ms,
+           "batch_s": report.get("batch", {}).get("total_s")}
+    evaluation = report.get("evaluation", {})
+    for key, name in (("ate_window", "window"), ("ate_filter", "window_filter"),
+                      ("ate_batch", "batch")):
+        if name in evaluation:
+            row[key] = evaluation[name]["ape_translation"]["rmse"]
+    if row.get("ate_window") is not None and row.get("ate_batch"):
+        row["ratio"] = row["ate_window"] / row["ate_batch"]
+    ok = row["median_ms"] is not None and row["p99_ms"] is not None and \
+        row["median_ms"] < args.target_ms and row["p99_ms"] < args.target_ms
+    row["ok"] = "yes" if ok else "no"
+    print("%s: %s" % (entry["name"], out.strip().splitlines()[-1]),
+          file=sys.stderr)
+    return row
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--datasets", default=os.environ.get(
+        "SLAM_DATASETS", os.path.join(ROOT, "..", "shared", "datasets")))
+    parser.add_argument("--config", default=os.path.join(
+        ROOT, "configs", "benchmarks", "inertial.yaml"))
+    parser.add_argument("--slam", default=None,
+                        help="the slam binary (default: build/apps/slam)")
+    parser.add_argument("--csv", help="also write the CSV table here")
+    parser.add_argument("--md", help="also write the markdown table here")
+    parser.add_argument("--only", nargs="*", help="substrings of run names")
+    args = parser.parse_args()
+    args.slam = run_benchmarks.find_slam(args.slam)
+    with open(args.config) as f:
+        config = yaml.safe_load(f)
+    args.target_ms = float(config.get("target_update_ms", 5.0))
+    rows = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for index, entry in enumerate(config["runs"]):
+            if args.only and not any(s in entry["name"] for s in args.only):
+                continue
+            print("running %s ..." % entry["name"], file=sys.stderr)
+            row = run_entry(entry, args, tmp, index)
+            if row is not None:
+                rows.append(row)
+    md, csv_text = run_benchmarks.tables(rows, COLUMNS)
+    print(md)
+    print(csv_text)
+    if args.csv:
+        with open(args.csv, "w") as f:
+            f.write(csv_text)
+    if args.md:
+        with open(args.md, "w") as f:
+            f.write(md)
+    print("inertial benchmark: %d runs, %d within the %.1f ms update target"
+          % (len(rows), sum(r["ok"] == "yes" for r in rows), args.target_ms))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
