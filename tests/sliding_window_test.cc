@@ -173,7 +173,7 @@ InertialOptions TestOptions() {
   return options;
 }
 
-TEST(InertialWindowTest, WindowAteWithinTenPercentOfBatch) {
+TEST(InertialWindowTest, WindowAteWithinTwiceBatchAtOneSecondLag) {
   const InertialOptions options = TestOptions();
   for (unsigned seed : {1u, 2u, 3u}) {
     const SimulatedLog sim = Simulate(seed, 30.0, 10.0, options);
