@@ -95,12 +95,24 @@ void LaserSlam::AddScan(const LaserScan& scan) {
     last_odom_ = scan.odom;
     AddKeyframe(scan, points, nullptr);
     scans_.push_back({scan.stamp, 0, Pose2()});
+    if (config_.refine_scans) scan_points_.push_back(points);
     stats_.matching_seconds += Seconds(start);
     return;
   }
 
   path_ += (scan.odom.t - last_odom_.t).norm();
   const Pose2 predicted = tracked_ * (last_odom_.Inverse() * scan.odom);
+  IcpPrior prior;
+  prior.pose = predicted;
+  if (config_.tracking_odometry_weight > 0) {
+    prior.information = config_.tracking_odometry_weight *
+                        config_.icp.sigma_min * config_.icp.sigma_min *
+                        config_.icp.covariance_scale *
+                        OdometryMotion(last_odom_, scan.odom, config_.odometry)
+                            .covariance.inverse();
+  }
+  const IcpPrior* tracking_prior =
+      config_.tracking_odometry_weight > 0 ? &prior : nullptr;
   last_odom_ = scan.odom;
   MatchResult match;
   bool matched = false;
@@ -115,7 +127,7 @@ void LaserSlam::AddScan(const LaserScan& scan) {
                                   config_.icp);
       matched = good(match, 2.0);
     } else {
-      match = local_submap_.Icp(points, predicted, config_.icp);
+      match = local_submap_.Icp(points, predicted, config_.icp, tracking_prior);
       matched = good(match, 1.0);
       if (!matched) {
         ++stats_.tracking_correlative;
@@ -131,6 +143,7 @@ void LaserSlam::AddScan(const LaserScan& scan) {
   }
   if (!matched) ++stats_.tracking_failures;
   tracked_ = matched ? match.pose : predicted;
+  if (config_.refine_scans) scan_points_.push_back(points);
   stats_.matching_seconds += Seconds(start);
 
   const int last = static_cast<int>(keyframes_.size()) - 1;
@@ -364,6 +377,56 @@ void LaserSlam::Finish() {
         loop_factors_.end());
     OptimizeGraph(0);
   }
+  if (config_.refine_scans) RefineScans();
+}
+
+void LaserSlam::RefineScans() {
+  const auto start = std::chrono::steady_clock::now();
+  const int n = static_cast<int>(keyframes_.size());
+  std::vector<Pose2> poses(n);
+  for (int k = 0; k < n; ++k) poses[k] = KeyframePose(k);
+  const double r2 = config_.refine_radius * config_.refine_radius;
+  size_t s = 0;
+  for (int k = 0; k < n; ++k) {
+    const size_t first = s;
+    while (s < scans_.size() && scans_[s].keyframe == k) ++s;
+    if (s == first) continue;
+    Points2 world;
+    auto add = [&](int m) {
+      const Points2 p = TransformPoints(poses[m], keyframes_[m].points);
+      world.insert(world.end(), p.begin(), p.end());
+    };
+    const int lo = std::max(0, k - config_.refine_window);
+    const int hi = std::min(n - 1, k + config_.refine_window);
+    for (int m = lo; m <= hi; ++m) {
+      if (m != k) add(m);
+    }
+    if (config_.refine_radius > 0) {
+      for (int m = 0; m < n; ++m) {
+        if ((m < lo || m > hi) &&
+            (poses[m].t - poses[k].t).squaredNorm() <= r2) {
+          add(m);
+        }
+      }
+    }
+    MatchTarget target;
+    target.Build(VoxelFilter(world, config_.submap_voxel),
+                 config_.icp.max_correspondence_distance,
+                 config_.normal_radius);
+    const Pose2 k_inv = poses[k].Inverse();
+    for (size_t i = first; i < s; ++i) {
+      if (scan_points_[i].size() < 10) continue;
+      const Pose2 current = poses[k] * scans_[i].relative;
+      const MatchResult m = target.Icp(scan_points_[i], current, config_.icp);
+      if (m.success && m.fitness >= config_.min_tracking_fitness &&
+          SmallMotion(m.pose, current, config_.refine_max_jump,
+                      config_.refine_max_jump)) {
+        scans_[i].relative = k_inv * m.pose;
+        ++stats_.scans_refined;
+      }
+    }
+  }
+  stats_.refine_seconds += Seconds(start);
 }
 
 Trajectory LaserSlam::ScanTrajectory() const {

@@ -77,6 +77,12 @@ struct LaserSlamConfig {
   // Correlative search before ICP on every scan (else only when ICP fails).
   bool always_correlative = false;
   double max_tracking_jump = 0.5;  // m (and the same number in rad).
+  // Tracking ICP is pulled towards the odometry prediction with the
+  // odometry increment's information (odometry model below) times this
+  // weight, converted to ICP's units with icp.sigma_min^2 *
+  // icp.covariance_scale (IcpPrior); 0: no prior. It stops the scan from
+  // sliding along corridors where the points barely constrain it.
+  double tracking_odometry_weight = 1.0;
   CorrelativeOptions local_correlative{0.05, 3, 0.05, 0.4, 0.3, 0.01};
   OdometryNoise odometry;
   // Added (as variances) to the matcher's Hessian covariance of every
@@ -117,6 +123,19 @@ struct LaserSlamConfig {
   int loop_optimize_interval = 10;  // keyframes.
   int incremental_iterations = 10;
   OptimizerOptions optimizer;  // Final optimization (verbose is ignored).
+  // Final refinement (Finish, after the global optimization): every scan is
+  // registered again by ICP, from its current pose, against a map of the
+  // optimized keyframes around the keyframe it belongs to (that keyframe
+  // excluded): the refine_window keyframes before and after it in time and
+  // the keyframes within refine_radius (m) of it. Each scan's output pose
+  // then agrees with the optimized map, not only with the keyframes it was
+  // tracked against. A match moving the scan more than refine_max_jump (m
+  // and the same number in rad) or fitting below min_tracking_fitness
+  // leaves the scan where it was.
+  bool refine_scans = false;
+  int refine_window = 8;       // Keyframes on each side.
+  double refine_radius = 0.0;  // m; <= 0: no spatial neighbours.
+  double refine_max_jump = 0.2;
 };
 
 struct LaserSlamStats {
@@ -128,9 +147,11 @@ struct LaserSlamStats {
   int closures_accepted = 0;
   int closures_rejected = 0;  // Accepted, then down-weighted (Finish).
   int optimizations = 0;
+  int scans_refined = 0;  // Scans moved by the final refinement.
   double matching_seconds = 0.0;
   double loop_seconds = 0.0;
   double optimization_seconds = 0.0;
+  double refine_seconds = 0.0;
 };
 
 // The per-match test of a loop-closure candidate (before the consistency
@@ -178,6 +199,7 @@ class LaserSlam {
   void RebuildLocalSubmap();
   bool DetectLoopClosures(int k);
   void OptimizeGraph(int max_iterations);
+  void RefineScans();
   struct LoopHypothesis;
   // The matcher's covariance plus the floor match_min_sigma_*.
   Eigen::Matrix3d MatchCovariance(const MatchResult& match) const;
@@ -191,6 +213,7 @@ class LaserSlam {
   LaserSlamStats stats_;
   std::vector<Keyframe> keyframes_;
   std::vector<ScanRecord> scans_;
+  std::vector<Points2> scan_points_;  // Robot frame, per scan (refinement).
   std::vector<FactorId> loop_factors_;
   MatchTarget local_submap_;
   Pose2 tracked_;    // Robot pose of the last scan (world).
