@@ -94,7 +94,7 @@ void LaserSlam::AddScan(const LaserScan& scan) {
     tracked_ = scan.odom;
     last_odom_ = scan.odom;
     AddKeyframe(scan, points, nullptr);
-    scans_.push_back({scan.stamp, 0, Pose2()});
+    scans_.push_back({scan.stamp, 0, Pose2(), false, Pose2(), 0.0});
     if (config_.refine_scans) scan_points_.push_back(points);
     stats_.matching_seconds += Seconds(start);
     return;
@@ -152,7 +152,21 @@ void LaserSlam::AddScan(const LaserScan& scan) {
                    config_.keyframe_rotation)) {
     AddKeyframe(scan, points, matched ? &match : nullptr);
     const int k = static_cast<int>(keyframes_.size()) - 1;
-    scans_.push_back({scan.stamp, k, Pose2()});
+    // The scans of keyframe `last` relative to the new keyframe, before an
+    // optimization moves the two apart.
+    const Pose2 k_inv = tracked_.Inverse();
+    const double span =
+        static_cast<double>(scan.stamp - keyframes_[last].stamp);
+    for (auto s = scans_.rbegin(); s != scans_.rend() && s->keyframe == last;
+         ++s) {
+      s->relative_next = k_inv * (last_pose * s->relative);
+      s->alpha =
+          span > 0
+              ? static_cast<double>(s->stamp - keyframes_[last].stamp) / span
+              : 0.0;
+      s->has_next = true;
+    }
+    scans_.push_back({scan.stamp, k, Pose2(), false, Pose2(), 0.0});
     if (config_.loop_closure) {
       const auto loop_start = std::chrono::steady_clock::now();
       if (DetectLoopClosures(k)) pending_loop_ = true;
@@ -169,7 +183,8 @@ void LaserSlam::AddScan(const LaserScan& scan) {
       last_optimized_keyframe_ = k;
     }
   } else {
-    scans_.push_back({scan.stamp, last, last_pose.Inverse() * tracked_});
+    scans_.push_back({scan.stamp, last, last_pose.Inverse() * tracked_, false,
+                      Pose2(), 0.0});
   }
 }
 
@@ -422,6 +437,7 @@ void LaserSlam::RefineScans() {
           SmallMotion(m.pose, current, config_.refine_max_jump,
                       config_.refine_max_jump)) {
         scans_[i].relative = k_inv * m.pose;
+        scans_[i].has_next = false;
         ++stats_.scans_refined;
       }
     }
@@ -433,7 +449,14 @@ Trajectory LaserSlam::ScanTrajectory() const {
   Trajectory out;
   out.reserve(scans_.size());
   for (const ScanRecord& s : scans_) {
-    out.push_back({s.stamp, LiftPose2(KeyframePose(s.keyframe) * s.relative)});
+    Pose2 pose = KeyframePose(s.keyframe) * s.relative;
+    if (config_.interpolate_scans && s.has_next) {
+      const Pose2 next = KeyframePose(s.keyframe + 1) * s.relative_next;
+      const Pose2 d = pose.Inverse() * next;
+      pose =
+          pose * Pose2(s.alpha * d.t.x(), s.alpha * d.t.y(), s.alpha * d.theta);
+    }
+    out.push_back({s.stamp, LiftPose2(pose)});
   }
   return out;
 }

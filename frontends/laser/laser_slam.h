@@ -133,6 +133,9 @@ struct LaserSlamConfig {
   // and the same number in rad) or fitting below min_tracking_fitness
   // leaves the scan where it was.
   bool refine_scans = false;
+  // Output poses of the scans between two keyframes blend both keyframes'
+  // estimates (ScanRecord).
+  bool interpolate_scans = true;
   int refine_window = 8;       // Keyframes on each side.
   double refine_radius = 0.0;  // m; <= 0: no spatial neighbours.
   double refine_max_jump = 0.2;
@@ -179,10 +182,20 @@ class LaserSlam {
   Pose2 KeyframePose(size_t k) const;
   const Points2& KeyframePoints(size_t k) const { return keyframes_[k].points; }
   // Keyframe of each scan and the scan's pose relative to it.
+  // With interpolate_scans, a scan between keyframes k and k+1 also keeps
+  // its pose relative to k+1 (from the tracked poses before any
+  // optimization moved them apart) and its time fraction alpha between the
+  // two; its output pose moves from the k-anchored to the k+1-anchored pose
+  // by alpha, so that the correction the optimization applies to k and k+1
+  // reaches the scans between them continuously instead of as a jump at
+  // each keyframe.
   struct ScanRecord {
     TimeNs stamp = 0;
     int keyframe = 0;
     Pose2 relative;
+    bool has_next = false;
+    Pose2 relative_next;
+    double alpha = 0.0;
   };
   const std::vector<ScanRecord>& scan_records() const { return scans_; }
 
