@@ -215,10 +215,12 @@ int RunRunCommand(const std::vector<std::string>& args) {
   std::printf(
       "run: %d scans, %d keyframes; tracking: %d correlative, %d odometry "
       "only; loop closures: %d proposed, %d accepted, %d rejected; %d "
-      "optimizations; %d scans refined\n",
+      "optimizations; final loop pass: %d proposed, %d accepted; %d scans "
+      "refined\n",
       s.scans, s.keyframes, s.tracking_correlative, s.tracking_failures,
       s.closures_proposed, s.closures_accepted, s.closures_rejected,
-      s.optimizations, s.scans_refined);
+      s.optimizations, s.final_closures_proposed, s.final_closures_accepted,
+      s.scans_refined);
   std::printf(
       "run: time %.2f s (read %.2f s, slam %.2f s: matching %.2f, loops %.2f, "
       "optimization %.2f, refinement %.2f)\n",

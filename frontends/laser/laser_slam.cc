@@ -265,14 +265,10 @@ bool LaserSlam::DetectLoopClosures(int k) {
   if (chosen.empty()) return false;
   // The query: the last loop_query_keyframes keyframes in k's frame, so that
   // both sides of the match are local maps of several metres.
-  Points2 query;
-  const Pose2 k_inv = pose_k.Inverse();
-  for (int m = std::max(0, k - config_.loop_query_keyframes + 1); m <= k; ++m) {
-    const Points2 p =
-        TransformPoints(k_inv * KeyframePose(m), keyframes_[m].points);
-    query.insert(query.end(), p.begin(), p.end());
-  }
-  query = VoxelFilter(query, config_.loop_query_voxel);
+  const Points2 query = VoxelFilter(
+      KeyframeCloud(std::max(0, k - config_.loop_query_keyframes + 1), k,
+                    pose_k.Inverse()),
+      config_.loop_query_voxel);
   const Points2 search_query =
       config_.loop_search_voxel > config_.loop_query_voxel
           ? VoxelFilter(query, config_.loop_search_voxel)
@@ -285,15 +281,11 @@ bool LaserSlam::DetectLoopClosures(int k) {
     search.window_xy = std::max(search.window_xy, candidate.radius);
     const Pose2 pose_j = KeyframePose(j);
     const Pose2 j_inv = pose_j.Inverse();
-    Points2 submap;
-    const int lo = std::max(0, j - config_.loop_submap_half_width);
-    const int hi = std::min(k - config_.submap_keyframes,
-                            j + config_.loop_submap_half_width);
-    for (int m = lo; m <= hi; ++m) {
-      const Points2 p =
-          TransformPoints(j_inv * KeyframePose(m), keyframes_[m].points);
-      submap.insert(submap.end(), p.begin(), p.end());
-    }
+    const Points2 submap =
+        KeyframeCloud(std::max(0, j - config_.loop_submap_half_width),
+                      std::min(k - config_.submap_keyframes,
+                               j + config_.loop_submap_half_width),
+                      j_inv);
     MatchTarget target;
     target.Build(VoxelFilter(submap, config_.submap_voxel),
                  config_.icp.max_correspondence_distance,
@@ -370,9 +362,96 @@ void LaserSlam::OptimizeGraph(int max_iterations) {
   stats_.optimization_seconds += Seconds(start);
 }
 
+Points2 LaserSlam::KeyframeCloud(int lo, int hi, const Pose2& frame_inv) const {
+  Points2 cloud;
+  for (int m = lo; m <= hi; ++m) {
+    const Points2 p =
+        TransformPoints(frame_inv * KeyframePose(m), keyframes_[m].points);
+    cloud.insert(cloud.end(), p.begin(), p.end());
+  }
+  return cloud;
+}
+
 void LaserSlam::Finish() {
   if (keyframes_.empty()) return;
   OptimizeGraph(0);
+  RejectClosures();
+  if (config_.loop_closure && config_.loop_final_pass) {
+    const auto start = std::chrono::steady_clock::now();
+    CloseLoopsFinal();
+    stats_.loop_seconds += Seconds(start);
+    if (stats_.final_closures_accepted > 0) {
+      OptimizeGraph(0);
+      RejectClosures();
+    }
+  }
+  if (config_.refine_scans) RefineScans();
+}
+
+void LaserSlam::CloseLoopsFinal() {
+  const int n = static_cast<int>(keyframes_.size());
+  std::vector<Pose2> poses(n);
+  for (int k = 0; k < n; ++k) poses[k] = KeyframePose(k);
+  // The correlative score is not computed here: ICP starts from the
+  // optimized estimate and may only correct it slightly.
+  LaserSlamConfig checks = config_;
+  checks.loop_min_score = 0.0;
+  const double r2 = config_.loop_final_radius * config_.loop_final_radius;
+  const int step = std::max(1, config_.loop_every);
+  for (int k = 0; k < n; k += step) {
+    if (keyframes_[k].points.size() < 20) continue;
+    std::vector<std::pair<double, int>> candidates;
+    for (int j = 0; j < k - config_.submap_keyframes; ++j) {
+      if (keyframes_[k].path - keyframes_[j].path <
+          config_.loop_min_separation) {
+        continue;
+      }
+      const double d2 = (poses[j].t - poses[k].t).squaredNorm();
+      if (d2 <= r2) candidates.push_back({d2, j});
+    }
+    if (candidates.empty()) continue;
+    std::sort(candidates.begin(), candidates.end());
+    std::vector<int> chosen;
+    for (const auto& c : candidates) {
+      if (static_cast<int>(chosen.size()) >= config_.loop_max_candidates) break;
+      bool near_chosen = false;
+      for (int o : chosen) {
+        near_chosen |=
+            std::abs(o - c.second) <= 2 * config_.loop_submap_half_width;
+      }
+      if (!near_chosen) chosen.push_back(c.second);
+    }
+    const Points2 query = VoxelFilter(
+        KeyframeCloud(std::max(0, k - config_.loop_query_keyframes + 1), k,
+                      poses[k].Inverse()),
+        config_.loop_query_voxel);
+    for (int j : chosen) {
+      const Pose2 j_inv = poses[j].Inverse();
+      MatchTarget target;
+      target.Build(
+          VoxelFilter(
+              KeyframeCloud(std::max(0, j - config_.loop_submap_half_width),
+                            std::min(k - config_.submap_keyframes,
+                                     j + config_.loop_submap_half_width),
+                            j_inv),
+              config_.submap_voxel),
+          config_.icp.max_correspondence_distance, config_.normal_radius);
+      const Pose2 initial = j_inv * poses[k];
+      const MatchResult match = target.Icp(query, initial, config_.icp);
+      ++stats_.final_closures_proposed;
+      if (!LoopMatchPasses(match, checks) ||
+          !SmallMotion(match.pose, initial, config_.loop_final_max_correction,
+                       config_.loop_final_max_correction)) {
+        continue;
+      }
+      AddBetween(j, k, match.pose, MatchCovariance(match),
+                 MakeLoss(config_.loop_kernel), true);
+      ++stats_.final_closures_accepted;
+    }
+  }
+}
+
+void LaserSlam::RejectClosures() {
   // Closures the robust kernel has switched off.
   std::vector<FactorId> rejected;
   for (FactorId id : loop_factors_) {
@@ -383,7 +462,7 @@ void LaserSlam::Finish() {
     if (factor->loss) factor->loss->Evaluate(chi2, rho);
     if (rho[1] < config_.loop_reject_weight) rejected.push_back(id);
   }
-  stats_.closures_rejected = static_cast<int>(rejected.size());
+  stats_.closures_rejected += static_cast<int>(rejected.size());
   if (!rejected.empty()) {
     for (FactorId id : rejected) graph_.RemoveFactor(id);
     loop_factors_.erase(
@@ -392,7 +471,6 @@ void LaserSlam::Finish() {
         loop_factors_.end());
     OptimizeGraph(0);
   }
-  if (config_.refine_scans) RefineScans();
 }
 
 void LaserSlam::RefineScans() {

@@ -118,6 +118,20 @@ struct LaserSlamConfig {
   double loop_consistency_angle = 0.02;    // rad.
   RobustKernelSpec loop_kernel{"cauchy", 3.0};
   double loop_reject_weight = 0.1;
+  // Final loop-closure pass (Finish, after the first global optimization
+  // and rejection): the map is now consistent, so every loop_every-th
+  // keyframe k is matched by ICP alone, from the optimized relative pose,
+  // against older keyframes j within loop_final_radius (m) and at least
+  // loop_min_separation of path away (the nearest loop_max_candidates
+  // places, query and submap as above). A match passing LoopMatchPasses
+  // (without the correlative score) that moves k by at most
+  // loop_final_max_correction (m, and the same number in rad) from the
+  // optimized estimate becomes one more closure; then the graph is
+  // optimized and the closures checked again. Revisits the incremental
+  // search missed or closed only loosely get constraints all along.
+  bool loop_final_pass = true;
+  double loop_final_radius = 1.5;
+  double loop_final_max_correction = 0.3;
   // Backend.
   int optimize_every = 200;         // keyframes.
   int loop_optimize_interval = 10;  // keyframes.
@@ -148,7 +162,9 @@ struct LaserSlamStats {
   int tracking_failures = 0;     // Scans left at the odometry prediction.
   int closures_proposed = 0;     // Candidates verified by matching.
   int closures_accepted = 0;
-  int closures_rejected = 0;  // Accepted, then down-weighted (Finish).
+  int closures_rejected = 0;        // Accepted, then down-weighted (Finish).
+  int final_closures_proposed = 0;  // Final pass (Finish).
+  int final_closures_accepted = 0;
   int optimizations = 0;
   int scans_refined = 0;  // Scans moved by the final refinement.
   double matching_seconds = 0.0;
@@ -213,6 +229,12 @@ class LaserSlam {
   bool DetectLoopClosures(int k);
   void OptimizeGraph(int max_iterations);
   void RefineScans();
+  void CloseLoopsFinal();
+  // Removes the closures the robust kernel has switched off (counted in
+  // closures_rejected) and optimizes again.
+  void RejectClosures();
+  // The points of keyframes lo..hi in the frame whose inverse is frame_inv.
+  Points2 KeyframeCloud(int lo, int hi, const Pose2& frame_inv) const;
   struct LoopHypothesis;
   // The matcher's covariance plus the floor match_min_sigma_*.
   Eigen::Matrix3d MatchCovariance(const MatchResult& match) const;
