@@ -95,7 +95,10 @@ void LaserSlam::AddScan(const LaserScan& scan) {
     last_odom_ = scan.odom;
     AddKeyframe(scan, points, nullptr);
     scans_.push_back({scan.stamp, 0, Pose2(), false, Pose2(), 0.0});
-    if (config_.refine_scans) scan_points_.push_back(points);
+    if (config_.refine_scans) {
+      scan_points_.push_back(points);
+      scan_odom_.push_back(scan.odom);
+    }
     stats_.matching_seconds += Seconds(start);
     return;
   }
@@ -143,7 +146,10 @@ void LaserSlam::AddScan(const LaserScan& scan) {
   }
   if (!matched) ++stats_.tracking_failures;
   tracked_ = matched ? match.pose : predicted;
-  if (config_.refine_scans) scan_points_.push_back(points);
+  if (config_.refine_scans) {
+    scan_points_.push_back(points);
+    scan_odom_.push_back(scan.odom);
+  }
   stats_.matching_seconds += Seconds(start);
 
   const int last = static_cast<int>(keyframes_.size()) - 1;
@@ -509,8 +515,16 @@ void LaserSlam::RefineScans() {
     const Pose2 k_inv = poses[k].Inverse();
     for (size_t i = first; i < s; ++i) {
       if (scan_points_[i].size() < 10) continue;
-      const Pose2 current = poses[k] * scans_[i].relative;
-      const MatchResult m = target.Icp(scan_points_[i], current, config_.icp);
+      const Pose2 current = ScanPose(i);
+      IcpPrior prior;
+      prior.pose = current;
+      prior.information =
+          config_.tracking_odometry_weight * config_.icp.sigma_min *
+          config_.icp.sigma_min * config_.icp.covariance_scale *
+          OdometryMotion(keyframes_[k].odom, scan_odom_[i], config_.odometry)
+              .covariance.inverse();
+      const MatchResult m =
+          target.Icp(scan_points_[i], current, config_.icp, &prior);
       if (m.success && m.fitness >= config_.min_tracking_fitness &&
           SmallMotion(m.pose, current, config_.refine_max_jump,
                       config_.refine_max_jump)) {
@@ -523,18 +537,23 @@ void LaserSlam::RefineScans() {
   stats_.refine_seconds += Seconds(start);
 }
 
+Pose2 LaserSlam::ScanPose(size_t i) const {
+  const ScanRecord& s = scans_[i];
+  Pose2 pose = KeyframePose(s.keyframe) * s.relative;
+  if (config_.interpolate_scans && s.has_next) {
+    const Pose2 next = KeyframePose(s.keyframe + 1) * s.relative_next;
+    const Pose2 d = pose.Inverse() * next;
+    pose =
+        pose * Pose2(s.alpha * d.t.x(), s.alpha * d.t.y(), s.alpha * d.theta);
+  }
+  return pose;
+}
+
 Trajectory LaserSlam::ScanTrajectory() const {
   Trajectory out;
   out.reserve(scans_.size());
-  for (const ScanRecord& s : scans_) {
-    Pose2 pose = KeyframePose(s.keyframe) * s.relative;
-    if (config_.interpolate_scans && s.has_next) {
-      const Pose2 next = KeyframePose(s.keyframe + 1) * s.relative_next;
-      const Pose2 d = pose.Inverse() * next;
-      pose =
-          pose * Pose2(s.alpha * d.t.x(), s.alpha * d.t.y(), s.alpha * d.theta);
-    }
-    out.push_back({s.stamp, LiftPose2(pose)});
+  for (size_t i = 0; i < scans_.size(); ++i) {
+    out.push_back({scans_[i].stamp, LiftPose2(ScanPose(i))});
   }
   return out;
 }

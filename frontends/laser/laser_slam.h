@@ -143,7 +143,10 @@ struct LaserSlamConfig {
   // excluded): the refine_window keyframes before and after it in time and
   // the keyframes within refine_radius (m) of it. Each scan's output pose
   // then agrees with the optimized map, not only with the keyframes it was
-  // tracked against. A match moving the scan more than refine_max_jump (m
+  // tracked against. The ICP has a prior at the current pose with the
+  // information of the odometry since the keyframe (IcpPrior, scaled as in
+  // tracking by tracking_odometry_weight), so that scans do not slide
+  // along corridors. A match moving the scan more than refine_max_jump (m
   // and the same number in rad) or fitting below min_tracking_fitness
   // leaves the scan where it was.
   bool refine_scans = false;
@@ -249,6 +252,8 @@ class LaserSlam {
   std::vector<Keyframe> keyframes_;
   std::vector<ScanRecord> scans_;
   std::vector<Points2> scan_points_;  // Robot frame, per scan (refinement).
+  std::vector<Pose2> scan_odom_;      // Odometry pose, per scan (refinement).
+  Pose2 ScanPose(size_t i) const;     // Output pose of scan i.
   std::vector<FactorId> loop_factors_;
   MatchTarget local_submap_;
   Pose2 tracked_;    // Robot pose of the last scan (world).
