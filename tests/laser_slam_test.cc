@@ -306,9 +306,13 @@ TEST(LaserSlamTest, AcesRelationError) {
                                    RelationErrorOptions(), &r, &error))
       << error;
   EXPECT_EQ(r.used.size(), relations.size());
-  EXPECT_LT(r.translation_abs.mean, 0.06);
-  EXPECT_LT(r.rotation_abs.mean, 0.5);
-  EXPECT_LT(r.translation_abs.std, 0.08);
+  // 0.0391 +- 0.0355 m, 0.329 +- 0.316 deg with the defaults (deterministic;
+  // the bounds leave a margin for other compilers and libraries).
+  // Cartographer (Hess et al. 2016): 0.0375 +- 0.0426 m, 0.373 +- 0.469 deg.
+  EXPECT_LT(r.translation_abs.mean, 0.041);
+  EXPECT_LT(r.translation_abs.std, 0.040);
+  EXPECT_LT(r.rotation_abs.mean, 0.35);
+  EXPECT_LT(r.rotation_abs.std, 0.35);
   EXPECT_GT(slam.stats().closures_accepted, 50);
   // A sharp map: few cells with mixed evidence along the walls (31% of
   // mixed + occupied with the defaults; 36% without loop closures).
