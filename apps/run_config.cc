@@ -78,6 +78,7 @@ Section Schema(RunConfig* c) {
          D("min_fitness", &s.min_tracking_fitness),
          D("max_jump", &s.max_tracking_jump),
          D("odometry_weight", &s.tracking_odometry_weight),
+         I("chain_links", &s.chain_links),
          B("always_correlative", &s.always_correlative),
          D("min_sigma_xy", &s.match_min_sigma_xy),
          D("min_sigma_theta", &s.match_min_sigma_theta)},

@@ -201,7 +201,7 @@ void LaserSlam::AddKeyframe(const LaserScan& scan, const Points2& points,
   node->stamp = scan.stamp;
   node->has_stamp = true;
   if (k == 0) graph_.SetFixed(Pose2Key(0), true);
-  keyframes_.push_back({scan.stamp, points, scan.odom, path_});
+  keyframes_.push_back({scan.stamp, points, scan.odom, path_, nullptr});
   ++stats_.keyframes;
   if (k > 0) {
     const Pose2 prev = KeyframePose(k - 1);
@@ -212,6 +212,28 @@ void LaserSlam::AddKeyframe(const LaserScan& scan, const Points2& points,
     const OdometryDelta odom =
         OdometryMotion(keyframes_[k - 1].odom, scan.odom, config_.odometry);
     AddBetween(k - 1, k, odom.delta, odom.covariance, nullptr, false);
+  }
+  if (config_.chain_links > 0) {
+    keyframes_[k].target = std::make_shared<MatchTarget>();
+    keyframes_[k].target->Build(VoxelFilter(points, config_.submap_voxel),
+                                config_.icp.max_correspondence_distance,
+                                config_.normal_radius);
+    for (int m = k - 2; m >= std::max(0, k - 1 - config_.chain_links); --m) {
+      IcpPrior prior;
+      prior.pose = KeyframePose(m).Inverse() * tracked_;
+      prior.information =
+          config_.tracking_odometry_weight * config_.icp.sigma_min *
+          config_.icp.sigma_min * config_.icp.covariance_scale *
+          OdometryMotion(keyframes_[m].odom, scan.odom, config_.odometry)
+              .covariance.inverse();
+      const MatchResult link =
+          keyframes_[m].target->Icp(points, prior.pose, config_.icp, &prior);
+      if (link.success && link.fitness >= config_.min_tracking_fitness &&
+          SmallMotion(link.pose, prior.pose, config_.max_tracking_jump,
+                      config_.max_tracking_jump)) {
+        AddBetween(m, k, link.pose, MatchCovariance(link), nullptr, false);
+      }
+    }
   }
   RebuildLocalSubmap();
 }

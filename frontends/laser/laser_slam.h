@@ -47,6 +47,7 @@
 #ifndef SLAM_FRONTENDS_LASER_LASER_SLAM_H_
 #define SLAM_FRONTENDS_LASER_LASER_SLAM_H_
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -84,6 +85,12 @@ struct LaserSlamConfig {
   // sliding along corridors where the points barely constrain it.
   double tracking_odometry_weight = 1.0;
   CorrelativeOptions local_correlative{0.05, 3, 0.05, 0.4, 0.3, 0.01};
+  // Chain links (Karto): each new keyframe k is also matched by ICP
+  // against keyframes k-2 .. k-1-chain_links alone (from the tracked
+  // relative pose, with the odometry prior of tracking) and joined to each
+  // by a scan-match factor, which stiffens the local chain against
+  // closures pulling single keyframes. 0: off.
+  int chain_links = 2;
   OdometryNoise odometry;
   // Added (as variances) to the matcher's Hessian covariance of every
   // scan-match and loop-closure factor: the Hessian bound ignores
@@ -223,7 +230,8 @@ class LaserSlam {
     TimeNs stamp = 0;
     Points2 points;  // Robot frame.
     Pose2 odom;
-    double path = 0.0;  // Path length from the start (m).
+    double path = 0.0;                    // Path length from the start (m).
+    std::shared_ptr<MatchTarget> target;  // Own points (chain links).
   };
 
   void AddKeyframe(const LaserScan& scan, const Points2& points,
