@@ -59,6 +59,20 @@ Eigen::Matrix3d LaserSlam::MatchCovariance(const Eigen::Matrix3d& c) const {
   return out;
 }
 
+IcpPrior LaserSlam::OdometryPrior(const Pose2& pose, const Pose2& odom_from,
+                                  const Pose2& odom_to) const {
+  IcpPrior prior;
+  prior.pose = pose;
+  if (config_.tracking_odometry_weight > 0) {
+    prior.information = config_.tracking_odometry_weight *
+                        config_.icp.sigma_min * config_.icp.sigma_min *
+                        config_.icp.covariance_scale *
+                        OdometryMotion(odom_from, odom_to, config_.odometry)
+                            .covariance.inverse();
+  }
+  return prior;
+}
+
 Pose2 LaserSlam::KeyframePose(size_t k) const {
   return NodePose2(*graph_.FindNode(Pose2Key(static_cast<int64_t>(k))));
 }
@@ -105,15 +119,7 @@ void LaserSlam::AddScan(const LaserScan& scan) {
 
   path_ += (scan.odom.t - last_odom_.t).norm();
   const Pose2 predicted = tracked_ * (last_odom_.Inverse() * scan.odom);
-  IcpPrior prior;
-  prior.pose = predicted;
-  if (config_.tracking_odometry_weight > 0) {
-    prior.information = config_.tracking_odometry_weight *
-                        config_.icp.sigma_min * config_.icp.sigma_min *
-                        config_.icp.covariance_scale *
-                        OdometryMotion(last_odom_, scan.odom, config_.odometry)
-                            .covariance.inverse();
-  }
+  const IcpPrior prior = OdometryPrior(predicted, last_odom_, scan.odom);
   const IcpPrior* tracking_prior =
       config_.tracking_odometry_weight > 0 ? &prior : nullptr;
   last_odom_ = scan.odom;
@@ -219,13 +225,8 @@ void LaserSlam::AddKeyframe(const LaserScan& scan, const Points2& points,
                                 config_.icp.max_correspondence_distance,
                                 config_.normal_radius);
     for (int m = k - 2; m >= std::max(0, k - 1 - config_.chain_links); --m) {
-      IcpPrior prior;
-      prior.pose = KeyframePose(m).Inverse() * tracked_;
-      prior.information =
-          config_.tracking_odometry_weight * config_.icp.sigma_min *
-          config_.icp.sigma_min * config_.icp.covariance_scale *
-          OdometryMotion(keyframes_[m].odom, scan.odom, config_.odometry)
-              .covariance.inverse();
+      const IcpPrior prior = OdometryPrior(KeyframePose(m).Inverse() * tracked_,
+                                           keyframes_[m].odom, scan.odom);
       const MatchResult link =
           keyframes_[m].target->Icp(points, prior.pose, config_.icp, &prior);
       if (link.success && link.fitness >= config_.min_tracking_fitness &&
@@ -538,13 +539,8 @@ void LaserSlam::RefineScans() {
     for (size_t i = first; i < s; ++i) {
       if (scan_points_[i].size() < 10) continue;
       const Pose2 current = ScanPose(i);
-      IcpPrior prior;
-      prior.pose = current;
-      prior.information =
-          config_.tracking_odometry_weight * config_.icp.sigma_min *
-          config_.icp.sigma_min * config_.icp.covariance_scale *
-          OdometryMotion(keyframes_[k].odom, scan_odom_[i], config_.odometry)
-              .covariance.inverse();
+      const IcpPrior prior =
+          OdometryPrior(current, keyframes_[k].odom, scan_odom_[i]);
       const MatchResult m =
           target.Icp(scan_points_[i], current, config_.icp, &prior);
       if (m.success && m.fitness >= config_.min_tracking_fitness &&

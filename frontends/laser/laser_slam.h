@@ -240,6 +240,10 @@ class LaserSlam {
   bool DetectLoopClosures(int k);
   void OptimizeGraph(int max_iterations);
   void RefineScans();
+  // A prior at `pose` with the information of the odometry motion between
+  // the two odometry poses, in ICP's units (tracking_odometry_weight).
+  IcpPrior OdometryPrior(const Pose2& pose, const Pose2& odom_from,
+                         const Pose2& odom_to) const;
   void CloseLoopsFinal();
   // Removes the closures the robust kernel has switched off (counted in
   // closures_rejected) and optimizes again.
