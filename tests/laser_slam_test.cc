@@ -306,7 +306,7 @@ TEST(LaserSlamTest, AcesRelationError) {
                                    RelationErrorOptions(), &r, &error))
       << error;
   EXPECT_EQ(r.used.size(), relations.size());
-  // 0.0362 +- 0.0328 m, 0.332 +- 0.356 deg with the defaults (deterministic).
+  // 0.0361 +- 0.0325 m, 0.314 +- 0.298 deg with the defaults (deterministic).
   // The bounds are Cartographer's figures (Hess et al. 2016, Table II).
   EXPECT_LT(r.translation_abs.mean, 0.0375);
   EXPECT_LT(r.translation_abs.std, 0.0426);

@@ -9,7 +9,9 @@
 //     odometry increment between the two scans.
 //  3. Tracking: point-to-line ICP of the scan against the local submap (the
 //     points of the last `submap_keyframes` keyframes in the world frame, at
-//     their current estimates). When ICP fails, fits poorly (fitness below
+//     their current estimates), pulled towards the prediction by an odometry
+//     prior (tracking_odometry_weight) so that it cannot slide along
+//     corridors. When ICP fails, fits poorly (fitness below
 //     min_tracking_fitness) or jumps more than max_tracking_jump from the
 //     prediction, a correlative search (local_correlative) refined by ICP is
 //     tried; if that fails too the prediction is kept.
@@ -19,7 +21,8 @@
 //     the previous keyframe: the scan match (relative pose of the tracked
 //     poses, covariance from the ICP Hessian, frontends/laser/scan_matcher.h)
 //     and the odometry (relative odometry pose, differential-drive
-//     covariance, frontends/laser/odometry_model.h).
+//     covariance, frontends/laser/odometry_model.h). Chain links: scan
+//     matches to the chain_links keyframes before k-1 (Karto).
 //  5. Loop closure (every loop_every-th keyframe k): candidates are older
 //     keyframes j at least loop_min_separation metres of path away whose
 //     estimated position lies within r = min(loop_max_radius,
@@ -40,7 +43,10 @@
 //     with at most incremental_iterations iterations; the tracked pose
 //     follows its keyframe. Finish() optimizes to convergence, then counts
 //     the closures whose robust weight rho'(chi2) ended below
-//     loop_reject_weight as rejected, removes them and optimizes again.
+//     loop_reject_weight as rejected, removes them and optimizes again;
+//     then a final loop-closure pass (loop_final_*) on the optimized map,
+//     optimization and rejection again, and the refinement of every scan
+//     against the optimized keyframes around it (refine_*).
 //
 // Every scan keeps its pose relative to the keyframe it was tracked from,
 // so that every scan stamp gets a pose in the output trajectory.
@@ -156,7 +162,7 @@ struct LaserSlamConfig {
   // along corridors. A match moving the scan more than refine_max_jump (m
   // and the same number in rad) or fitting below min_tracking_fitness
   // leaves the scan where it was.
-  bool refine_scans = false;
+  bool refine_scans = true;
   // Output poses of the scans between two keyframes blend both keyframes'
   // estimates (ScanRecord).
   bool interpolate_scans = true;
