@@ -215,15 +215,17 @@ int RunRunCommand(const std::vector<std::string>& args) {
   std::printf(
       "run: %d scans, %d keyframes; tracking: %d correlative, %d odometry "
       "only; loop closures: %d proposed, %d accepted, %d rejected; %d "
-      "optimizations\n",
+      "optimizations; final loop pass: %d proposed, %d accepted; %d scans "
+      "refined\n",
       s.scans, s.keyframes, s.tracking_correlative, s.tracking_failures,
       s.closures_proposed, s.closures_accepted, s.closures_rejected,
-      s.optimizations);
+      s.optimizations, s.final_closures_proposed, s.final_closures_accepted,
+      s.scans_refined);
   std::printf(
       "run: time %.2f s (read %.2f s, slam %.2f s: matching %.2f, loops %.2f, "
-      "optimization %.2f)\n",
+      "optimization %.2f, refinement %.2f)\n",
       Since(start), read_seconds, slam_seconds, s.matching_seconds,
-      s.loop_seconds, s.optimization_seconds);
+      s.loop_seconds, s.optimization_seconds, s.refine_seconds);
   std::printf("run: wrote %s, %s\n", trajectory_path.c_str(),
               graph_path.c_str());
   if (!map_summary.empty()) std::printf("run: %s\n", map_summary.c_str());

@@ -306,16 +306,19 @@ TEST(LaserSlamTest, AcesRelationError) {
                                    RelationErrorOptions(), &r, &error))
       << error;
   EXPECT_EQ(r.used.size(), relations.size());
-  EXPECT_LT(r.translation_abs.mean, 0.06);
-  EXPECT_LT(r.rotation_abs.mean, 0.5);
-  EXPECT_LT(r.translation_abs.std, 0.08);
+  // 0.0361 +- 0.0325 m, 0.314 +- 0.298 deg with the defaults (deterministic).
+  // The bounds are Cartographer's figures (Hess et al. 2016, Table II).
+  EXPECT_LT(r.translation_abs.mean, 0.0375);
+  EXPECT_LT(r.translation_abs.std, 0.0426);
+  EXPECT_LT(r.rotation_abs.mean, 0.373);
+  EXPECT_LT(r.rotation_abs.std, 0.469);
   EXPECT_GT(slam.stats().closures_accepted, 50);
-  // A sharp map: few cells with mixed evidence along the walls (31% of
+  // A sharp map: few cells with mixed evidence along the walls (26% of
   // mixed + occupied with the defaults; 36% without loop closures).
   OccupancyGrid grid{OccupancyGridConfig()};
   InsertKeyframeScans(slam, log.scans, &grid);
   const MapSharpness sharpness = MeasureSharpness(grid);
-  EXPECT_LT(sharpness.MixedFraction(), 0.34);
+  EXPECT_LT(sharpness.MixedFraction(), 0.30);
   EXPECT_GT(sharpness.occupied, 10000u);
   std::printf(
       "ACES: translation %.4f +- %.4f m, rotation %.3f +- %.3f deg, mixed "

@@ -150,6 +150,37 @@ TEST(ScanMatcherTest, CovarianceIsLargeAlongACorridor) {
   EXPECT_LT(std::sqrt(room.covariance(0, 0)), 0.05);
 }
 
+TEST(ScanMatcherTest, PriorHoldsTheCorridorDirectionOnly) {
+  // In a corridor along x the points fix y and theta. A prior (here off by
+  // 0.15 m in x and 0.1 m in y from the truth) holds x where the points
+  // say nothing, but barely moves y, which the points constrain.
+  std::vector<Wall> walls = {
+      {Eigen::Vector2d(-100, -1), Eigen::Vector2d(100, -1)},
+      {Eigen::Vector2d(-100, 1), Eigen::Vector2d(100, 1)}};
+  std::mt19937 rng(7);
+  MatchTarget target;
+  target.Build(VoxelFilter(Scan(walls, Pose2(0, 0, 0), 0.01, &rng), 0.03), 0.3,
+               0.15);
+  const Pose2 truth(0.2, 0.05, 0.02);
+  const Points2 source = Scan(walls, truth, 0.01, &rng);
+  IcpPrior prior;
+  prior.pose = Pose2(0.35, 0.15, 0.02);
+  prior.information = Eigen::Vector3d(10.0, 1.0, 10.0).asDiagonal();
+  const Pose2 start(0.6, 0.0, 0.0);
+  const MatchResult with = target.Icp(source, start, IcpOptions(), &prior);
+  ASSERT_TRUE(with.success);
+  EXPECT_NEAR(with.pose.t.x(), prior.pose.t.x(), 0.02);
+  EXPECT_NEAR(with.pose.t.y(), truth.t.y(), 0.01);
+  EXPECT_NEAR(with.pose.theta, truth.theta, 0.005);
+  // Without the prior x wanders off (little pulls it along the corridor).
+  const MatchResult without = target.Icp(source, start, IcpOptions());
+  ASSERT_TRUE(without.success);
+  EXPECT_GT(std::abs(without.pose.t.x() - prior.pose.t.x()),
+            3.0 * std::abs(with.pose.t.x() - prior.pose.t.x()));
+  // The covariance is that of the points alone, with or without the prior.
+  EXPECT_GT(with.covariance(0, 0), 100.0 * with.covariance(1, 1));
+}
+
 TEST(OdometryModelTest, CovarianceMatchesSampledMotionModel) {
   OdometryNoise noise;
   noise.min_sigma_xy = 0.0;

@@ -59,6 +59,20 @@ Eigen::Matrix3d LaserSlam::MatchCovariance(const Eigen::Matrix3d& c) const {
   return out;
 }
 
+IcpPrior LaserSlam::OdometryPrior(const Pose2& pose, const Pose2& odom_from,
+                                  const Pose2& odom_to) const {
+  IcpPrior prior;
+  prior.pose = pose;
+  if (config_.tracking_odometry_weight > 0) {
+    prior.information = config_.tracking_odometry_weight *
+                        config_.icp.sigma_min * config_.icp.sigma_min *
+                        config_.icp.covariance_scale *
+                        OdometryMotion(odom_from, odom_to, config_.odometry)
+                            .covariance.inverse();
+  }
+  return prior;
+}
+
 Pose2 LaserSlam::KeyframePose(size_t k) const {
   return NodePose2(*graph_.FindNode(Pose2Key(static_cast<int64_t>(k))));
 }
@@ -94,13 +108,20 @@ void LaserSlam::AddScan(const LaserScan& scan) {
     tracked_ = scan.odom;
     last_odom_ = scan.odom;
     AddKeyframe(scan, points, nullptr);
-    scans_.push_back({scan.stamp, 0, Pose2()});
+    scans_.push_back({scan.stamp, 0, Pose2(), false, Pose2(), 0.0});
+    if (config_.refine_scans) {
+      scan_points_.push_back(points);
+      scan_odom_.push_back(scan.odom);
+    }
     stats_.matching_seconds += Seconds(start);
     return;
   }
 
   path_ += (scan.odom.t - last_odom_.t).norm();
   const Pose2 predicted = tracked_ * (last_odom_.Inverse() * scan.odom);
+  const IcpPrior prior = OdometryPrior(predicted, last_odom_, scan.odom);
+  const IcpPrior* tracking_prior =
+      config_.tracking_odometry_weight > 0 ? &prior : nullptr;
   last_odom_ = scan.odom;
   MatchResult match;
   bool matched = false;
@@ -115,7 +136,7 @@ void LaserSlam::AddScan(const LaserScan& scan) {
                                   config_.icp);
       matched = good(match, 2.0);
     } else {
-      match = local_submap_.Icp(points, predicted, config_.icp);
+      match = local_submap_.Icp(points, predicted, config_.icp, tracking_prior);
       matched = good(match, 1.0);
       if (!matched) {
         ++stats_.tracking_correlative;
@@ -131,6 +152,10 @@ void LaserSlam::AddScan(const LaserScan& scan) {
   }
   if (!matched) ++stats_.tracking_failures;
   tracked_ = matched ? match.pose : predicted;
+  if (config_.refine_scans) {
+    scan_points_.push_back(points);
+    scan_odom_.push_back(scan.odom);
+  }
   stats_.matching_seconds += Seconds(start);
 
   const int last = static_cast<int>(keyframes_.size()) - 1;
@@ -139,7 +164,21 @@ void LaserSlam::AddScan(const LaserScan& scan) {
                    config_.keyframe_rotation)) {
     AddKeyframe(scan, points, matched ? &match : nullptr);
     const int k = static_cast<int>(keyframes_.size()) - 1;
-    scans_.push_back({scan.stamp, k, Pose2()});
+    // The scans of keyframe `last` relative to the new keyframe, before an
+    // optimization moves the two apart.
+    const Pose2 k_inv = tracked_.Inverse();
+    const double span =
+        static_cast<double>(scan.stamp - keyframes_[last].stamp);
+    for (auto s = scans_.rbegin(); s != scans_.rend() && s->keyframe == last;
+         ++s) {
+      s->relative_next = k_inv * (last_pose * s->relative);
+      s->alpha =
+          span > 0
+              ? static_cast<double>(s->stamp - keyframes_[last].stamp) / span
+              : 0.0;
+      s->has_next = true;
+    }
+    scans_.push_back({scan.stamp, k, Pose2(), false, Pose2(), 0.0});
     if (config_.loop_closure) {
       const auto loop_start = std::chrono::steady_clock::now();
       if (DetectLoopClosures(k)) pending_loop_ = true;
@@ -156,7 +195,8 @@ void LaserSlam::AddScan(const LaserScan& scan) {
       last_optimized_keyframe_ = k;
     }
   } else {
-    scans_.push_back({scan.stamp, last, last_pose.Inverse() * tracked_});
+    scans_.push_back({scan.stamp, last, last_pose.Inverse() * tracked_, false,
+                      Pose2(), 0.0});
   }
 }
 
@@ -167,7 +207,7 @@ void LaserSlam::AddKeyframe(const LaserScan& scan, const Points2& points,
   node->stamp = scan.stamp;
   node->has_stamp = true;
   if (k == 0) graph_.SetFixed(Pose2Key(0), true);
-  keyframes_.push_back({scan.stamp, points, scan.odom, path_});
+  keyframes_.push_back({scan.stamp, points, scan.odom, path_, nullptr});
   ++stats_.keyframes;
   if (k > 0) {
     const Pose2 prev = KeyframePose(k - 1);
@@ -178,6 +218,23 @@ void LaserSlam::AddKeyframe(const LaserScan& scan, const Points2& points,
     const OdometryDelta odom =
         OdometryMotion(keyframes_[k - 1].odom, scan.odom, config_.odometry);
     AddBetween(k - 1, k, odom.delta, odom.covariance, nullptr, false);
+  }
+  if (config_.chain_links > 0) {
+    keyframes_[k].target = std::make_shared<MatchTarget>();
+    keyframes_[k].target->Build(VoxelFilter(points, config_.submap_voxel),
+                                config_.icp.max_correspondence_distance,
+                                config_.normal_radius);
+    for (int m = k - 2; m >= std::max(0, k - 1 - config_.chain_links); --m) {
+      const IcpPrior prior = OdometryPrior(KeyframePose(m).Inverse() * tracked_,
+                                           keyframes_[m].odom, scan.odom);
+      const MatchResult link =
+          keyframes_[m].target->Icp(points, prior.pose, config_.icp, &prior);
+      if (link.success && link.fitness >= config_.min_tracking_fitness &&
+          SmallMotion(link.pose, prior.pose, config_.max_tracking_jump,
+                      config_.max_tracking_jump)) {
+        AddBetween(m, k, link.pose, MatchCovariance(link), nullptr, false);
+      }
+    }
   }
   RebuildLocalSubmap();
 }
@@ -237,14 +294,10 @@ bool LaserSlam::DetectLoopClosures(int k) {
   if (chosen.empty()) return false;
   // The query: the last loop_query_keyframes keyframes in k's frame, so that
   // both sides of the match are local maps of several metres.
-  Points2 query;
-  const Pose2 k_inv = pose_k.Inverse();
-  for (int m = std::max(0, k - config_.loop_query_keyframes + 1); m <= k; ++m) {
-    const Points2 p =
-        TransformPoints(k_inv * KeyframePose(m), keyframes_[m].points);
-    query.insert(query.end(), p.begin(), p.end());
-  }
-  query = VoxelFilter(query, config_.loop_query_voxel);
+  const Points2 query = VoxelFilter(
+      KeyframeCloud(std::max(0, k - config_.loop_query_keyframes + 1), k,
+                    pose_k.Inverse()),
+      config_.loop_query_voxel);
   const Points2 search_query =
       config_.loop_search_voxel > config_.loop_query_voxel
           ? VoxelFilter(query, config_.loop_search_voxel)
@@ -257,15 +310,11 @@ bool LaserSlam::DetectLoopClosures(int k) {
     search.window_xy = std::max(search.window_xy, candidate.radius);
     const Pose2 pose_j = KeyframePose(j);
     const Pose2 j_inv = pose_j.Inverse();
-    Points2 submap;
-    const int lo = std::max(0, j - config_.loop_submap_half_width);
-    const int hi = std::min(k - config_.submap_keyframes,
-                            j + config_.loop_submap_half_width);
-    for (int m = lo; m <= hi; ++m) {
-      const Points2 p =
-          TransformPoints(j_inv * KeyframePose(m), keyframes_[m].points);
-      submap.insert(submap.end(), p.begin(), p.end());
-    }
+    const Points2 submap =
+        KeyframeCloud(std::max(0, j - config_.loop_submap_half_width),
+                      std::min(k - config_.submap_keyframes,
+                               j + config_.loop_submap_half_width),
+                      j_inv);
     MatchTarget target;
     target.Build(VoxelFilter(submap, config_.submap_voxel),
                  config_.icp.max_correspondence_distance,
@@ -342,9 +391,96 @@ void LaserSlam::OptimizeGraph(int max_iterations) {
   stats_.optimization_seconds += Seconds(start);
 }
 
+Points2 LaserSlam::KeyframeCloud(int lo, int hi, const Pose2& frame_inv) const {
+  Points2 cloud;
+  for (int m = lo; m <= hi; ++m) {
+    const Points2 p =
+        TransformPoints(frame_inv * KeyframePose(m), keyframes_[m].points);
+    cloud.insert(cloud.end(), p.begin(), p.end());
+  }
+  return cloud;
+}
+
 void LaserSlam::Finish() {
   if (keyframes_.empty()) return;
   OptimizeGraph(0);
+  RejectClosures();
+  if (config_.loop_closure && config_.loop_final_pass) {
+    const auto start = std::chrono::steady_clock::now();
+    CloseLoopsFinal();
+    stats_.loop_seconds += Seconds(start);
+    if (stats_.final_closures_accepted > 0) {
+      OptimizeGraph(0);
+      RejectClosures();
+    }
+  }
+  if (config_.refine_scans) RefineScans();
+}
+
+void LaserSlam::CloseLoopsFinal() {
+  const int n = static_cast<int>(keyframes_.size());
+  std::vector<Pose2> poses(n);
+  for (int k = 0; k < n; ++k) poses[k] = KeyframePose(k);
+  // The correlative score is not computed here: ICP starts from the
+  // optimized estimate and may only correct it slightly.
+  LaserSlamConfig checks = config_;
+  checks.loop_min_score = 0.0;
+  const double r2 = config_.loop_final_radius * config_.loop_final_radius;
+  const int step = std::max(1, config_.loop_every);
+  for (int k = 0; k < n; k += step) {
+    if (keyframes_[k].points.size() < 20) continue;
+    std::vector<std::pair<double, int>> candidates;
+    for (int j = 0; j < k - config_.submap_keyframes; ++j) {
+      if (keyframes_[k].path - keyframes_[j].path <
+          config_.loop_min_separation) {
+        continue;
+      }
+      const double d2 = (poses[j].t - poses[k].t).squaredNorm();
+      if (d2 <= r2) candidates.push_back({d2, j});
+    }
+    if (candidates.empty()) continue;
+    std::sort(candidates.begin(), candidates.end());
+    std::vector<int> chosen;
+    for (const auto& c : candidates) {
+      if (static_cast<int>(chosen.size()) >= config_.loop_max_candidates) break;
+      bool near_chosen = false;
+      for (int o : chosen) {
+        near_chosen |=
+            std::abs(o - c.second) <= 2 * config_.loop_submap_half_width;
+      }
+      if (!near_chosen) chosen.push_back(c.second);
+    }
+    const Points2 query = VoxelFilter(
+        KeyframeCloud(std::max(0, k - config_.loop_query_keyframes + 1), k,
+                      poses[k].Inverse()),
+        config_.loop_query_voxel);
+    for (int j : chosen) {
+      const Pose2 j_inv = poses[j].Inverse();
+      MatchTarget target;
+      target.Build(
+          VoxelFilter(
+              KeyframeCloud(std::max(0, j - config_.loop_submap_half_width),
+                            std::min(k - config_.submap_keyframes,
+                                     j + config_.loop_submap_half_width),
+                            j_inv),
+              config_.submap_voxel),
+          config_.icp.max_correspondence_distance, config_.normal_radius);
+      const Pose2 initial = j_inv * poses[k];
+      const MatchResult match = target.Icp(query, initial, config_.icp);
+      ++stats_.final_closures_proposed;
+      if (!LoopMatchPasses(match, checks) ||
+          !SmallMotion(match.pose, initial, config_.loop_final_max_correction,
+                       config_.loop_final_max_correction)) {
+        continue;
+      }
+      AddBetween(j, k, match.pose, MatchCovariance(match),
+                 MakeLoss(config_.loop_kernel), true);
+      ++stats_.final_closures_accepted;
+    }
+  }
+}
+
+void LaserSlam::RejectClosures() {
   // Closures the robust kernel has switched off.
   std::vector<FactorId> rejected;
   for (FactorId id : loop_factors_) {
@@ -355,7 +491,7 @@ void LaserSlam::Finish() {
     if (factor->loss) factor->loss->Evaluate(chi2, rho);
     if (rho[1] < config_.loop_reject_weight) rejected.push_back(id);
   }
-  stats_.closures_rejected = static_cast<int>(rejected.size());
+  stats_.closures_rejected += static_cast<int>(rejected.size());
   if (!rejected.empty()) {
     for (FactorId id : rejected) graph_.RemoveFactor(id);
     loop_factors_.erase(
@@ -366,11 +502,76 @@ void LaserSlam::Finish() {
   }
 }
 
+void LaserSlam::RefineScans() {
+  const auto start = std::chrono::steady_clock::now();
+  const int n = static_cast<int>(keyframes_.size());
+  std::vector<Pose2> poses(n);
+  for (int k = 0; k < n; ++k) poses[k] = KeyframePose(k);
+  const double r2 = config_.refine_radius * config_.refine_radius;
+  size_t s = 0;
+  for (int k = 0; k < n; ++k) {
+    const size_t first = s;
+    while (s < scans_.size() && scans_[s].keyframe == k) ++s;
+    if (s == first) continue;
+    Points2 world;
+    auto add = [&](int m) {
+      const Points2 p = TransformPoints(poses[m], keyframes_[m].points);
+      world.insert(world.end(), p.begin(), p.end());
+    };
+    const int lo = std::max(0, k - config_.refine_window);
+    const int hi = std::min(n - 1, k + config_.refine_window);
+    for (int m = lo; m <= hi; ++m) {
+      if (m != k) add(m);
+    }
+    if (config_.refine_radius > 0) {
+      for (int m = 0; m < n; ++m) {
+        if ((m < lo || m > hi) &&
+            (poses[m].t - poses[k].t).squaredNorm() <= r2) {
+          add(m);
+        }
+      }
+    }
+    MatchTarget target;
+    target.Build(VoxelFilter(world, config_.submap_voxel),
+                 config_.icp.max_correspondence_distance,
+                 config_.normal_radius);
+    const Pose2 k_inv = poses[k].Inverse();
+    for (size_t i = first; i < s; ++i) {
+      if (scan_points_[i].size() < 10) continue;
+      const Pose2 current = ScanPose(i);
+      const IcpPrior prior =
+          OdometryPrior(current, keyframes_[k].odom, scan_odom_[i]);
+      const MatchResult m =
+          target.Icp(scan_points_[i], current, config_.icp, &prior);
+      if (m.success && m.fitness >= config_.min_tracking_fitness &&
+          SmallMotion(m.pose, current, config_.refine_max_jump,
+                      config_.refine_max_jump)) {
+        scans_[i].relative = k_inv * m.pose;
+        scans_[i].has_next = false;
+        ++stats_.scans_refined;
+      }
+    }
+  }
+  stats_.refine_seconds += Seconds(start);
+}
+
+Pose2 LaserSlam::ScanPose(size_t i) const {
+  const ScanRecord& s = scans_[i];
+  Pose2 pose = KeyframePose(s.keyframe) * s.relative;
+  if (config_.interpolate_scans && s.has_next) {
+    const Pose2 next = KeyframePose(s.keyframe + 1) * s.relative_next;
+    const Pose2 d = pose.Inverse() * next;
+    pose =
+        pose * Pose2(s.alpha * d.t.x(), s.alpha * d.t.y(), s.alpha * d.theta);
+  }
+  return pose;
+}
+
 Trajectory LaserSlam::ScanTrajectory() const {
   Trajectory out;
   out.reserve(scans_.size());
-  for (const ScanRecord& s : scans_) {
-    out.push_back({s.stamp, LiftPose2(KeyframePose(s.keyframe) * s.relative)});
+  for (size_t i = 0; i < scans_.size(); ++i) {
+    out.push_back({scans_[i].stamp, LiftPose2(ScanPose(i))});
   }
   return out;
 }

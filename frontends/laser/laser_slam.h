@@ -9,7 +9,9 @@
 //     odometry increment between the two scans.
 //  3. Tracking: point-to-line ICP of the scan against the local submap (the
 //     points of the last `submap_keyframes` keyframes in the world frame, at
-//     their current estimates). When ICP fails, fits poorly (fitness below
+//     their current estimates), pulled towards the prediction by an odometry
+//     prior (tracking_odometry_weight) so that it cannot slide along
+//     corridors. When ICP fails, fits poorly (fitness below
 //     min_tracking_fitness) or jumps more than max_tracking_jump from the
 //     prediction, a correlative search (local_correlative) refined by ICP is
 //     tried; if that fails too the prediction is kept.
@@ -19,7 +21,8 @@
 //     the previous keyframe: the scan match (relative pose of the tracked
 //     poses, covariance from the ICP Hessian, frontends/laser/scan_matcher.h)
 //     and the odometry (relative odometry pose, differential-drive
-//     covariance, frontends/laser/odometry_model.h).
+//     covariance, frontends/laser/odometry_model.h). Chain links: scan
+//     matches to the chain_links keyframes before k-1 (Karto).
 //  5. Loop closure (every loop_every-th keyframe k): candidates are older
 //     keyframes j at least loop_min_separation metres of path away whose
 //     estimated position lies within r = min(loop_max_radius,
@@ -40,13 +43,17 @@
 //     with at most incremental_iterations iterations; the tracked pose
 //     follows its keyframe. Finish() optimizes to convergence, then counts
 //     the closures whose robust weight rho'(chi2) ended below
-//     loop_reject_weight as rejected, removes them and optimizes again.
+//     loop_reject_weight as rejected, removes them and optimizes again;
+//     then a final loop-closure pass (loop_final_*) on the optimized map,
+//     optimization and rejection again, and the refinement of every scan
+//     against the optimized keyframes around it (refine_*).
 //
 // Every scan keeps its pose relative to the keyframe it was tracked from,
 // so that every scan stamp gets a pose in the output trajectory.
 #ifndef SLAM_FRONTENDS_LASER_LASER_SLAM_H_
 #define SLAM_FRONTENDS_LASER_LASER_SLAM_H_
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -77,7 +84,19 @@ struct LaserSlamConfig {
   // Correlative search before ICP on every scan (else only when ICP fails).
   bool always_correlative = false;
   double max_tracking_jump = 0.5;  // m (and the same number in rad).
+  // Tracking ICP is pulled towards the odometry prediction with the
+  // odometry increment's information (odometry model below) times this
+  // weight, converted to ICP's units with icp.sigma_min^2 *
+  // icp.covariance_scale (IcpPrior); 0: no prior. It stops the scan from
+  // sliding along corridors where the points barely constrain it.
+  double tracking_odometry_weight = 1.0;
   CorrelativeOptions local_correlative{0.05, 3, 0.05, 0.4, 0.3, 0.01};
+  // Chain links (Karto): each new keyframe k is also matched by ICP
+  // against keyframes k-2 .. k-1-chain_links alone (from the tracked
+  // relative pose, with the odometry prior of tracking) and joined to each
+  // by a scan-match factor, which stiffens the local chain against
+  // closures pulling single keyframes. 0: off.
+  int chain_links = 2;
   OdometryNoise odometry;
   // Added (as variances) to the matcher's Hessian covariance of every
   // scan-match and loop-closure factor: the Hessian bound ignores
@@ -112,11 +131,44 @@ struct LaserSlamConfig {
   double loop_consistency_angle = 0.02;    // rad.
   RobustKernelSpec loop_kernel{"cauchy", 3.0};
   double loop_reject_weight = 0.1;
+  // Final loop-closure pass (Finish, after the first global optimization
+  // and rejection): the map is now consistent, so every loop_every-th
+  // keyframe k is matched by ICP alone, from the optimized relative pose,
+  // against older keyframes j within loop_final_radius (m) and at least
+  // loop_min_separation of path away (the nearest loop_max_candidates
+  // places, query and submap as above). A match passing LoopMatchPasses
+  // (without the correlative score) that moves k by at most
+  // loop_final_max_correction (m, and the same number in rad) from the
+  // optimized estimate becomes one more closure; then the graph is
+  // optimized and the closures checked again. Revisits the incremental
+  // search missed or closed only loosely get constraints all along.
+  bool loop_final_pass = true;
+  double loop_final_radius = 1.5;
+  double loop_final_max_correction = 0.3;
   // Backend.
   int optimize_every = 200;         // keyframes.
   int loop_optimize_interval = 10;  // keyframes.
   int incremental_iterations = 10;
   OptimizerOptions optimizer;  // Final optimization (verbose is ignored).
+  // Final refinement (Finish, after the global optimization): every scan is
+  // registered again by ICP, from its current pose, against a map of the
+  // optimized keyframes around the keyframe it belongs to (that keyframe
+  // excluded): the refine_window keyframes before and after it in time and
+  // the keyframes within refine_radius (m) of it. Each scan's output pose
+  // then agrees with the optimized map, not only with the keyframes it was
+  // tracked against. The ICP has a prior at the current pose with the
+  // information of the odometry since the keyframe (IcpPrior, scaled as in
+  // tracking by tracking_odometry_weight), so that scans do not slide
+  // along corridors. A match moving the scan more than refine_max_jump (m
+  // and the same number in rad) or fitting below min_tracking_fitness
+  // leaves the scan where it was.
+  bool refine_scans = true;
+  // Output poses of the scans between two keyframes blend both keyframes'
+  // estimates (ScanRecord).
+  bool interpolate_scans = true;
+  int refine_window = 8;       // Keyframes on each side.
+  double refine_radius = 0.0;  // m; <= 0: no spatial neighbours.
+  double refine_max_jump = 0.2;
 };
 
 struct LaserSlamStats {
@@ -126,11 +178,15 @@ struct LaserSlamStats {
   int tracking_failures = 0;     // Scans left at the odometry prediction.
   int closures_proposed = 0;     // Candidates verified by matching.
   int closures_accepted = 0;
-  int closures_rejected = 0;  // Accepted, then down-weighted (Finish).
+  int closures_rejected = 0;        // Accepted, then down-weighted (Finish).
+  int final_closures_proposed = 0;  // Final pass (Finish).
+  int final_closures_accepted = 0;
   int optimizations = 0;
+  int scans_refined = 0;  // Scans moved by the final refinement.
   double matching_seconds = 0.0;
   double loop_seconds = 0.0;
   double optimization_seconds = 0.0;
+  double refine_seconds = 0.0;
 };
 
 // The per-match test of a loop-closure candidate (before the consistency
@@ -158,10 +214,20 @@ class LaserSlam {
   Pose2 KeyframePose(size_t k) const;
   const Points2& KeyframePoints(size_t k) const { return keyframes_[k].points; }
   // Keyframe of each scan and the scan's pose relative to it.
+  // With interpolate_scans, a scan between keyframes k and k+1 also keeps
+  // its pose relative to k+1 (from the tracked poses before any
+  // optimization moved them apart) and its time fraction alpha between the
+  // two; its output pose moves from the k-anchored to the k+1-anchored pose
+  // by alpha, so that the correction the optimization applies to k and k+1
+  // reaches the scans between them continuously instead of as a jump at
+  // each keyframe.
   struct ScanRecord {
     TimeNs stamp = 0;
     int keyframe = 0;
     Pose2 relative;
+    bool has_next = false;
+    Pose2 relative_next;
+    double alpha = 0.0;
   };
   const std::vector<ScanRecord>& scan_records() const { return scans_; }
 
@@ -170,7 +236,8 @@ class LaserSlam {
     TimeNs stamp = 0;
     Points2 points;  // Robot frame.
     Pose2 odom;
-    double path = 0.0;  // Path length from the start (m).
+    double path = 0.0;                    // Path length from the start (m).
+    std::shared_ptr<MatchTarget> target;  // Own points (chain links).
   };
 
   void AddKeyframe(const LaserScan& scan, const Points2& points,
@@ -178,6 +245,17 @@ class LaserSlam {
   void RebuildLocalSubmap();
   bool DetectLoopClosures(int k);
   void OptimizeGraph(int max_iterations);
+  void RefineScans();
+  // A prior at `pose` with the information of the odometry motion between
+  // the two odometry poses, in ICP's units (tracking_odometry_weight).
+  IcpPrior OdometryPrior(const Pose2& pose, const Pose2& odom_from,
+                         const Pose2& odom_to) const;
+  void CloseLoopsFinal();
+  // Removes the closures the robust kernel has switched off (counted in
+  // closures_rejected) and optimizes again.
+  void RejectClosures();
+  // The points of keyframes lo..hi in the frame whose inverse is frame_inv.
+  Points2 KeyframeCloud(int lo, int hi, const Pose2& frame_inv) const;
   struct LoopHypothesis;
   // The matcher's covariance plus the floor match_min_sigma_*.
   Eigen::Matrix3d MatchCovariance(const MatchResult& match) const;
@@ -191,6 +269,9 @@ class LaserSlam {
   LaserSlamStats stats_;
   std::vector<Keyframe> keyframes_;
   std::vector<ScanRecord> scans_;
+  std::vector<Points2> scan_points_;  // Robot frame, per scan (refinement).
+  std::vector<Pose2> scan_odom_;      // Odometry pose, per scan (refinement).
+  Pose2 ScanPose(size_t i) const;     // Output pose of scan i.
   std::vector<FactorId> loop_factors_;
   MatchTarget local_submap_;
   Pose2 tracked_;    // Robot pose of the last scan (world).

@@ -198,7 +198,8 @@ int MatchTarget::Nearest(const Eigen::Vector2d& query,
 }
 
 MatchResult MatchTarget::Icp(const Points2& source, const Pose2& initial,
-                             const IcpOptions& options) const {
+                             const IcpOptions& options,
+                             const IcpPrior* prior) const {
   MatchResult result;
   result.pose = initial;
   result.num_points = static_cast<int>(source.size());
@@ -249,9 +250,20 @@ MatchResult MatchTarget::Icp(const Points2& source, const Pose2& initial,
   for (; iteration < options.max_iterations; ++iteration) {
     linearize(&g, false);
     if (n < 3) break;
-    const double damping = 1e-9 * (h.trace() + 1e-12);
+    Eigen::Matrix3d h_total = h;
+    if (prior != nullptr) {
+      const Eigen::Matrix2d rp = RotationMatrix2D(prior->pose.theta);
+      const Eigen::Vector3d e((rp.transpose() * (x.t - prior->pose.t)).x(),
+                              (rp.transpose() * (x.t - prior->pose.t)).y(),
+                              NormalizeAngle(x.theta - prior->pose.theta));
+      Eigen::Matrix3d j = Eigen::Matrix3d::Identity();
+      j.topLeftCorner<2, 2>() = rp.transpose() * RotationMatrix2D(x.theta);
+      h_total += j.transpose() * prior->information * j;
+      g += j.transpose() * prior->information * e;
+    }
+    const double damping = 1e-9 * (h_total.trace() + 1e-12);
     Eigen::Vector3d delta =
-        -(h + damping * Eigen::Matrix3d::Identity()).ldlt().solve(g);
+        -(h_total + damping * Eigen::Matrix3d::Identity()).ldlt().solve(g);
     if (!delta.allFinite()) break;
     // A step along a direction the points barely constrain (a corridor)
     // can be huge; the correspondences are only valid nearby.

@@ -88,6 +88,19 @@ struct MatchResult {
   bool success = false;  // Enough correspondences, H well conditioned.
 };
 
+// A Gaussian prior on the matched pose X (e.g. the odometry prediction):
+// the cost e^T W e is added to ICP's, e = (R_p^T (t - t_p), theta -
+// theta_p). W is in ICP's units: the point-to-line residuals enter with unit
+// weight, so a prior of covariance C (m, rad) for residuals of variance s2
+// is W = s2 * C^-1. Along directions the points constrain well the prior is
+// negligible; along a corridor it keeps the match from sliding. The result's
+// covariance is that of the points alone (the prior is usually a separate
+// factor of the graph).
+struct IcpPrior {
+  Pose2 pose;
+  Eigen::Matrix3d information = Eigen::Matrix3d::Zero();
+};
+
 // Points in frame T with normals, a grid hash for nearest-neighbour lookup
 // and (built on demand) the likelihood grids of the correlative search.
 class MatchTarget {
@@ -108,7 +121,8 @@ class MatchTarget {
 
   // Point-to-line ICP from `initial`.
   MatchResult Icp(const Points2& source, const Pose2& initial,
-                  const IcpOptions& options) const;
+                  const IcpOptions& options,
+                  const IcpPrior* prior = nullptr) const;
 
   // Best pose on the search lattice around `initial` by the correlative
   // score (mean likelihood of the source points); writes the score.
