@@ -391,30 +391,32 @@ bool ReadG2oFromText(const std::string& name, std::string_view text,
   *report = GraphReadReport();
   text::PoseGraphBuilder builder(name, options);
   G2oState state;
-  std::string problem;
   // First pass: the PARAMS_* records, which edges may use before (in file
   // order) they are declared.
-  text::LineTokenizer params(text);
-  while (params.Next()) {
-    if (params.tokens()[0].substr(0, 7) != "PARAMS_") continue;
-    problem.clear();
-    bool handled = false;
-    if (!ParseLandmarkLine(params.tokens(), params.line(), &builder, &state,
-                           &handled, &problem, error)) {
-      if (!problem.empty()) *error = builder.LineError(params.line(), problem);
-      return false;
-    }
-    if (!handled) builder.SkipUnknownTag(params.tokens()[0]);
-  }
-  text::LineTokenizer lines(text);
-  while (lines.Next()) {
-    if (lines.tokens()[0].substr(0, 7) == "PARAMS_") continue;
-    problem.clear();
-    if (!ParseLine(lines.tokens(), lines.line(), &builder, &state, &problem,
-                   error)) {
-      if (!problem.empty()) *error = builder.LineError(lines.line(), problem);
-      return false;
-    }
+  const text::RecordParser parse_params =
+      [&builder, &state](const std::vector<std::string_view>& tokens,
+                         int64_t line, std::string* problem,
+                         std::string* error) {
+        if (tokens[0].substr(0, 7) != "PARAMS_") return true;
+        bool handled = false;
+        if (!ParseLandmarkLine(tokens, line, &builder, &state, &handled,
+                               problem, error)) {
+          return false;
+        }
+        if (!handled) builder.SkipUnknownTag(tokens[0]);
+        return true;
+      };
+  // Second pass: everything else.
+  const text::RecordParser parse =
+      [&builder, &state](const std::vector<std::string_view>& tokens,
+                         int64_t line, std::string* problem,
+                         std::string* error) {
+        if (tokens[0].substr(0, 7) == "PARAMS_") return true;
+        return ParseLine(tokens, line, &builder, &state, problem, error);
+      };
+  if (!text::ParseRecords(text, builder, parse_params, error) ||
+      !text::ParseRecords(text, builder, parse, error)) {
+    return false;
   }
   return builder.Finish(graph, report, error);
 }

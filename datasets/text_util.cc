@@ -683,4 +683,18 @@ bool PoseGraphBuilder::Finish(Graph* graph, GraphReadReport* report,
   return true;
 }
 
+bool ParseRecords(std::string_view text, const PoseGraphBuilder& builder,
+                  const RecordParser& parse, std::string* error) {
+  LineTokenizer lines(text);
+  std::string problem;
+  while (lines.Next()) {
+    problem.clear();
+    if (!parse(lines.tokens(), lines.line(), &problem, error)) {
+      if (!problem.empty()) *error = builder.LineError(lines.line(), problem);
+      return false;
+    }
+  }
+  return true;
+}
+
 }  // namespace slam::text

@@ -9,6 +9,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <cstdint>
+#include <functional>
 #include <set>
 #include <string>
 #include <string_view>
@@ -223,6 +224,18 @@ class PoseGraphBuilder {
   int edges_ = 0;
   int repaired_ = 0;
 };
+
+// One record parser of a pose-graph reader: parses `tokens` (line `line`)
+// into the builder it captures. On failure it sets either *problem (turned
+// into "NAME:LINE: problem" by ParseRecords) or *error (already complete).
+using RecordParser = std::function<bool(
+    const std::vector<std::string_view>& tokens, int64_t line,
+    std::string* problem, std::string* error)>;
+
+// Runs `parse` on every record of `text` in order; false at the first
+// failure, with *error set.
+bool ParseRecords(std::string_view text, const PoseGraphBuilder& builder,
+                  const RecordParser& parse, std::string* error);
 
 }  // namespace slam::text
 

@@ -160,16 +160,13 @@ bool ReadToroFromText(const std::string& name, std::string_view text,
   if (report == nullptr) report = &local_report;
   *report = GraphReadReport();
   text::PoseGraphBuilder builder(name, options);
-  text::LineTokenizer lines(text);
-  std::string problem;
-  while (lines.Next()) {
-    problem.clear();
-    if (!ParseLine(lines.tokens(), lines.line(), &builder, &problem, error)) {
-      if (!problem.empty()) *error = builder.LineError(lines.line(), problem);
-      return false;
-    }
-  }
-  return builder.Finish(graph, report, error);
+  const text::RecordParser parse =
+      [&builder](const std::vector<std::string_view>& tokens, int64_t line,
+                 std::string* problem, std::string* error) {
+        return ParseLine(tokens, line, &builder, problem, error);
+      };
+  return text::ParseRecords(text, builder, parse, error) &&
+         builder.Finish(graph, report, error);
 }
 
 bool ReadToro(const std::string& path, const GraphReadOptions& options,
