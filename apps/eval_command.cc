@@ -40,12 +40,16 @@ DEFINE_string(est, "", "eval: estimated trajectory file");
 DEFINE_string(format, "auto",
               "eval: trajectory format of both files: auto, tum, kitti, "
               "euroc or g2o (auto: detected from the content)");
-DEFINE_string(ref_format, "", "eval: format of the reference (overrides --format)");
-DEFINE_string(est_format, "", "eval: format of the estimate (overrides --format)");
-DEFINE_string(ref_times, "",
-              "eval: KITTI times file (one stamp in s per pose) for the reference");
-DEFINE_string(est_times, "",
-              "eval: KITTI times file (one stamp in s per pose) for the estimate");
+DEFINE_string(ref_format, "",
+              "eval: format of the reference (overrides --format)");
+DEFINE_string(est_format, "",
+              "eval: format of the estimate (overrides --format)");
+DEFINE_string(
+    ref_times, "",
+    "eval: KITTI times file (one stamp in s per pose) for the reference");
+DEFINE_string(
+    est_times, "",
+    "eval: KITTI times file (one stamp in s per pose) for the estimate");
 DEFINE_string(associate, "auto",
               "eval: auto, time or index (auto: by index when a file has no "
               "stamps, e.g. KITTI poses without times)");
@@ -53,9 +57,10 @@ DEFINE_double(t_max_diff, 0.01,
               "eval: max. stamp difference (s) for associating poses (evo's "
               "default 0.01)");
 DEFINE_double(t_offset, 0.0, "eval: offset (s) added to the estimate's stamps");
-DEFINE_string(align, "se3",
-              "eval: alignment of the estimate onto the reference: none, se3 "
-              "(Umeyama), sim3 (Umeyama with scale), scale, origin (first pose)");
+DEFINE_string(
+    align, "se3",
+    "eval: alignment of the estimate onto the reference: none, se3 "
+    "(Umeyama), sim3 (Umeyama with scale), scale, origin (first pose)");
 DEFINE_int32(n_to_align, -1,
              "eval: align on the first N matched poses only (-1: all)");
 DEFINE_double(rpe_delta, 1.0, "eval: RPE pair distance, in --rpe_unit");
@@ -100,8 +105,8 @@ int Fail(const std::string& message, int code = 1) {
 bool ParseFormatFlag(const std::string& value, const char* flag,
                      TrajectoryFormat* format, std::string* error) {
   if (ParseTrajectoryFormat(value, format)) return true;
-  *error = std::string("--") + flag + " must be auto, tum, kitti, euroc or g2o, not '" +
-           value + "'";
+  *error = std::string("--") + flag +
+           " must be auto, tum, kitti, euroc or g2o, not '" + value + "'";
   return false;
 }
 
@@ -206,7 +211,8 @@ int RunRelationEval(const std::string& est_path,
   TrajectoryData est;
   if (!ReadTrajectory(est_path, est_options, &est, &error)) return Fail(error);
   if (!est.has_stamps) {
-    return Fail(est.path + ": the relation error needs stamps (give KITTI "
+    return Fail(est.path +
+                ": the relation error needs stamps (give KITTI "
                 "times with --est_times)");
   }
   std::cout << "relations: " << FLAGS_relations << " (" << relations.size()
@@ -233,8 +239,7 @@ int RunRelationEval(const std::string& est_path,
         .Add("relations", relations_json)
         .Add("estimate", est_json)
         .Add("relation_error", RelationErrorJson(result, settings.relations));
-    if (!WriteFileAtomically(FLAGS_report, report.ToString(0) + "\n",
-                             &error)) {
+    if (!WriteFileAtomically(FLAGS_report, report.ToString(0) + "\n", &error)) {
       return Fail(error);
     }
     std::cout << "report: " << FLAGS_report << "\n";
@@ -278,17 +283,19 @@ int RunEvalCommand(const std::vector<std::string>& args) {
   }
   if (relations) {
     if (!ref_path.empty()) {
-      return Fail("--ref is not used with --relations (the relations are "
-                  "the ground truth)",
-                  2);
+      return Fail(
+          "--ref is not used with --relations (the relations are "
+          "the ground truth)",
+          2);
     }
     if (est_path.empty()) {
       return Fail("give the estimate: slam eval --relations FILE --est EST", 2);
     }
   } else if (ref_path.empty() || est_path.empty()) {
-    return Fail("give the reference and the estimate: slam eval --ref GT "
-                "--est EST [flags] (slam eval --help lists the flags)",
-                2);
+    return Fail(
+        "give the reference and the estimate: slam eval --ref GT "
+        "--est EST [flags] (slam eval --help lists the flags)",
+        2);
   }
 
   TrajectoryFormat common = TrajectoryFormat::kAuto;
@@ -321,9 +328,10 @@ int RunEvalCommand(const std::vector<std::string>& args) {
     settings.association = ChooseAssociation(ref.has_stamps, est.has_stamps);
   } else if (settings.association == AssociationMethod::kTimestamp &&
              (!ref.has_stamps || !est.has_stamps)) {
-    return Fail("--associate time needs stamps in both files (give KITTI "
-                "times with --ref_times / --est_times)",
-                2);
+    return Fail(
+        "--associate time needs stamps in both files (give KITTI "
+        "times with --ref_times / --est_times)",
+        2);
   }
 
   EvalLabels labels;

@@ -13,20 +13,23 @@
 namespace slam {
 namespace {
 
-
 std::string AlignmentDescription(const EvalSettings& s, size_t pairs) {
-  const size_t used =
-      s.n_to_align > 0 ? std::min(pairs, static_cast<size_t>(s.n_to_align))
-                       : pairs;
+  const size_t used = s.n_to_align > 0
+                          ? std::min(pairs, static_cast<size_t>(s.n_to_align))
+                          : pairs;
   const std::string on = s.n_to_align > 0
                              ? " on the first " + std::to_string(used) +
                                    " of " + std::to_string(pairs) + " pairs"
                              : " on all " + std::to_string(pairs) + " pairs";
   switch (s.align) {
-    case AlignmentMethod::kNone: return "none (estimate used as is)";
-    case AlignmentMethod::kSE3: return "SE(3) Umeyama" + on;
-    case AlignmentMethod::kSim3: return "Sim(3) Umeyama" + on;
-    case AlignmentMethod::kScale: return "scale only (Umeyama)" + on;
+    case AlignmentMethod::kNone:
+      return "none (estimate used as is)";
+    case AlignmentMethod::kSE3:
+      return "SE(3) Umeyama" + on;
+    case AlignmentMethod::kSim3:
+      return "Sim(3) Umeyama" + on;
+    case AlignmentMethod::kScale:
+      return "scale only (Umeyama)" + on;
     case AlignmentMethod::kOrigin:
       return "origin (first estimate pose onto the first reference pose)";
   }
@@ -56,9 +59,10 @@ void PrintAssociationAndAlignment(const EvalResult& r, const EvalSettings& s,
   if (a.by_index) {
     out << "association: by index, " << a.size() << " pairs\n";
   } else {
-    out << "association: by timestamp (t_max_diff " << Fmt("%g", s.sync.t_max_diff)
-        << " s, t_offset " << Fmt("%g", s.sync.t_offset) << " s): " << a.size()
-        << " of max. " << a.max_pairs << " possible pairs, largest |dt| "
+    out << "association: by timestamp (t_max_diff "
+        << Fmt("%g", s.sync.t_max_diff) << " s, t_offset "
+        << Fmt("%g", s.sync.t_offset) << " s): " << a.size() << " of max. "
+        << a.max_pairs << " possible pairs, largest |dt| "
         << Fmt("%.6f", a.max_abs_dt) << " s\n";
     if (a.dropped_duplicates > 0) {
       out << "  note: " << a.dropped_duplicates
@@ -72,11 +76,11 @@ void PrintAssociationAndAlignment(const EvalResult& r, const EvalSettings& s,
     const Similarity3& t = r.alignment;
     char buf[160];
     for (int i = 0; i < 3; ++i) {
-      std::snprintf(buf, sizeof(buf), "  %s [%11.8f %11.8f %11.8f]   %s%12.6f\n",
+      std::snprintf(buf, sizeof(buf),
+                    "  %s [%11.8f %11.8f %11.8f]   %s%12.6f\n",
                     i == 0 ? "rotation" : "        ", t.rotation(i, 0),
                     t.rotation(i, 1), t.rotation(i, 2),
-                    i == 0 ? "translation " : "            ",
-                    t.translation[i]);
+                    i == 0 ? "translation " : "            ", t.translation[i]);
       out << buf;
     }
     std::snprintf(buf, sizeof(buf), "  scale %.9f\n", t.scale);
@@ -87,9 +91,9 @@ void PrintAssociationAndAlignment(const EvalResult& r, const EvalSettings& s,
 void PrintEvalTable(const EvalResult& r, const EvalSettings& s,
                     std::ostream& out) {
   char buf[256];
-  std::snprintf(buf, sizeof(buf), "%-21s %11s %11s %11s %11s %11s %11s %14s %7s\n",
-                "", "rmse", "mean", "median", "std", "min", "max", "sse",
-                "count");
+  std::snprintf(buf, sizeof(buf),
+                "%-21s %11s %11s %11s %11s %11s %11s %14s %7s\n", "", "rmse",
+                "mean", "median", "std", "min", "max", "sse", "count");
   out << buf;
   PrintStatsRow(out, "APE translation [m]", r.ape_translation_stats);
   PrintStatsRow(out, "APE rotation [deg]", r.ape_rotation_stats);
@@ -116,8 +120,7 @@ void PrintEvalTable(const EvalResult& r, const EvalSettings& s,
         std::snprintf(buf, sizeof(buf),
                       "  %4.0f m: %5zu segments  t_rel %8.4f %%  r_rel %8.4f "
                       "deg/100m\n",
-                      l.length, l.count, l.t_rel_percent,
-                      l.r_rel_deg_per_100m);
+                      l.length, l.count, l.t_rel_percent, l.r_rel_deg_per_100m);
         out << buf;
       }
     }
@@ -140,9 +143,8 @@ JsonObject StatisticsJson(const ErrorStatistics& s, const char* unit) {
 
 JsonObject EvalSettingsJson(const EvalSettings& s) {
   JsonObject o;
-  o.Add("association", s.association == AssociationMethod::kIndex
-                           ? "index"
-                           : "timestamp")
+  o.Add("association",
+        s.association == AssociationMethod::kIndex ? "index" : "timestamp")
       .Add("t_max_diff", s.sync.t_max_diff)
       .Add("t_offset", s.sync.t_offset)
       .Add("align", AlignmentMethodName(s.align))
@@ -150,8 +152,8 @@ JsonObject EvalSettingsJson(const EvalSettings& s) {
       .Add("rpe_delta", s.rpe.delta)
       .Add("rpe_unit", DeltaUnitName(s.rpe.unit))
       .Add("rpe_all_pairs", s.rpe.all_pairs)
-      .Add("rpe_pairs_from", s.rpe.pairs_from_reference ? "reference"
-                                                        : "estimate")
+      .Add("rpe_pairs_from",
+           s.rpe.pairs_from_reference ? "reference" : "estimate")
       .Add("rpe_delta_tol", s.rpe.rel_delta_tol)
       .Add("kitti", s.kitti);
   return o;
@@ -181,10 +183,9 @@ void AddEvalResultJson(const EvalResult& r, const EvalSettings& s,
   align.Add("method", AlignmentMethodName(s.align))
       .Add("n_to_align", s.n_to_align)
       .Add("rotation_row_major", rot)
-      .Add("translation",
-           std::vector<double>{r.alignment.translation.x(),
-                               r.alignment.translation.y(),
-                               r.alignment.translation.z()})
+      .Add("translation", std::vector<double>{r.alignment.translation.x(),
+                                              r.alignment.translation.y(),
+                                              r.alignment.translation.z()})
       .Add("scale", r.alignment.scale);
   o.Add("alignment", align);
   o.Add("ape_translation", StatisticsJson(r.ape_translation_stats, "m"));
@@ -195,8 +196,8 @@ void AddEvalResultJson(const EvalResult& r, const EvalSettings& s,
     o2->Add("delta", s.rpe.delta)
         .Add("delta_unit", DeltaUnitName(s.rpe.unit))
         .Add("all_pairs", s.rpe.all_pairs)
-        .Add("pairs_from", s.rpe.pairs_from_reference ? "reference"
-                                                      : "estimate");
+        .Add("pairs_from",
+             s.rpe.pairs_from_reference ? "reference" : "estimate");
   }
   o.Add("rpe_translation", rpe_t);
   o.Add("rpe_rotation", rpe_r);
@@ -229,9 +230,9 @@ void AddEvalResultJson(const EvalResult& r, const EvalSettings& s,
 bool WriteEvalPlots(const std::string& dir, const EvalResult& result,
                     const EvalSettings& settings, const EvalLabels& labels,
                     std::vector<std::string>* written, std::string* error) {
-  using Function = bool (*)(const std::string&, const EvalResult&,
-                            const EvalSettings&, const EvalLabels&,
-                            std::vector<std::string>*, std::string*);
+  using Function =
+      bool (*)(const std::string&, const EvalResult&, const EvalSettings&,
+               const EvalLabels&, std::vector<std::string>*, std::string*);
   void* symbol = nullptr;
   if (!LoadPlotModuleSymbol("SlamWriteEvalPlots", &symbol, error)) {
     return false;
@@ -249,8 +250,7 @@ bool EvaluateAndReport(const Trajectory& ref, const Trajectory& est,
   PrintEvalTable(*result, settings, out);
   if (!plot_dir.empty()) {
     std::vector<std::string> written;
-    if (!WriteEvalPlots(plot_dir, *result, settings, labels, &written,
-                        error)) {
+    if (!WriteEvalPlots(plot_dir, *result, settings, labels, &written, error)) {
       return false;
     }
     out << "plots:";
@@ -335,7 +335,7 @@ std::string EvalSettingsYaml(const EvalSettings& s, bool associate_auto,
   const std::string pad(indent, ' ');
   std::ostringstream o;
   o << pad << "associate: "
-    << (associate_auto ? "auto"
+    << (associate_auto                               ? "auto"
         : s.association == AssociationMethod::kIndex ? "index"
                                                      : "time")
     << "            # auto | time | index (auto: index when a file has no "
@@ -361,8 +361,8 @@ std::string EvalSettingsYaml(const EvalSettings& s, bool associate_auto,
     << "              # KITTI devkit metric\n";
   o << pad << "relations_t_max_diff: " << Fmt("%.17g", s.relations.t_max_diff)
     << "   # s, --relations: stamp match\n";
-  o << pad << "relations_interpolate: "
-    << (s.relations.interpolate ? "true" : "false")
+  o << pad
+    << "relations_interpolate: " << (s.relations.interpolate ? "true" : "false")
     << "  # --relations: interpolate poses between stamps\n";
   return o.str();
 }

@@ -46,7 +46,6 @@ bool EvaluateAndReport(const Trajectory& ref, const Trajectory& est,
                        const std::string& plot_dir, std::ostream& out,
                        EvalResult* result, std::string* error);
 
-
 // Index association when either side has no stamps (KITTI without times).
 AssociationMethod ChooseAssociation(bool ref_has_stamps, bool est_has_stamps);
 
@@ -69,10 +68,11 @@ void AddEvalResultJson(const EvalResult& result, const EvalSettings& settings,
                        JsonObject* out);
 JsonObject StatisticsJson(const ErrorStatistics& stats, const char* unit);
 
-// Plots written into `dir` (PNG), by the plot module (apps/plot_module.h): trajectories.png (reference and aligned
-// estimate seen from above), ape_map.png (estimate coloured by the APE with
-// a colour bar), ape.png (APE over time, translation and rotation), rpe.png
-// (RPE over time). The names written are appended to *written.
+// Plots written into `dir` (PNG), by the plot module (apps/plot_module.h):
+// trajectories.png (reference and aligned estimate seen from above),
+// ape_map.png (estimate coloured by the APE with a colour bar), ape.png (APE
+// over time, translation and rotation), rpe.png (RPE over time). The names
+// written are appended to *written.
 bool WriteEvalPlots(const std::string& dir, const EvalResult& result,
                     const EvalSettings& settings, const EvalLabels& labels,
                     std::vector<std::string>* written, std::string* error);

@@ -46,9 +46,10 @@ DEFINE_string(robust, "none",
 DEFINE_int32(max_iterations, 100, "iteration limit");
 DEFINE_string(marginals, "",
               "comma-separated node ids whose marginal covariance to print");
-DEFINE_bool(repair_information, false,
-            "replace information matrices that are not positive definite by "
-            "the nearest positive-definite matrix (counted) instead of failing");
+DEFINE_bool(
+    repair_information, false,
+    "replace information matrices that are not positive definite by "
+    "the nearest positive-definite matrix (counted) instead of failing");
 DEFINE_string(ordering, "auto",
               "elimination ordering: auto, amd, metis, nesdis, ceres");
 DEFINE_bool(quiet, false, "no per-iteration lines");
@@ -127,8 +128,7 @@ const RobustKernelSpec& KernelFor(const OptimizeConfig& config,
 }
 
 void ApplyKernels(const OptimizeConfig& config, Graph* graph) {
-  std::vector<std::pair<FactorId, std::shared_ptr<ceres::LossFunction>>>
-      losses;
+  std::vector<std::pair<FactorId, std::shared_ptr<ceres::LossFunction>>> losses;
   for (const auto& [id, factor] : graph->factors()) {
     losses.emplace_back(id, MakeLoss(KernelFor(config, factor)));
   }
@@ -136,8 +136,7 @@ void ApplyKernels(const OptimizeConfig& config, Graph* graph) {
 }
 
 double Seconds(std::chrono::steady_clock::time_point since) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() -
-                                       since)
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - since)
       .count();
 }
 
@@ -443,11 +442,10 @@ int RunOptimizeCommand(const std::vector<std::string>& args) {
         pixels_before.rms, pixels_after.rms, pixels_after.factors,
         pixels_after.behind);
   }
-  std::printf(
-      "solver: %s, linear solver %s (%s, ordering %s), gauge: %s\n",
-      SolverKindName(config.optimizer.solver), summary.linear_solver.c_str(),
-      summary.sparse_library.c_str(), summary.ordering.c_str(),
-      summary.gauge.c_str());
+  std::printf("solver: %s, linear solver %s (%s, ordering %s), gauge: %s\n",
+              SolverKindName(config.optimizer.solver),
+              summary.linear_solver.c_str(), summary.sparse_library.c_str(),
+              summary.ordering.c_str(), summary.gauge.c_str());
 
   // Marginals.
   JsonObject marginals_json;
@@ -544,8 +542,7 @@ int RunOptimizeCommand(const std::vector<std::string>& args) {
     }
     if (!marginals_json.empty()) report.Add("marginals", marginals_json);
     if (!evaluation.empty()) report.AddObjectEntries(evaluation);
-    if (!WriteFileAtomically(FLAGS_report, report.ToString() + "\n",
-                             &error)) {
+    if (!WriteFileAtomically(FLAGS_report, report.ToString() + "\n", &error)) {
       std::cerr << "slam optimize: " << error << "\n";
       return 1;
     }

@@ -107,7 +107,8 @@ bool ValidateOptimizeConfig(const OptimizeConfig& config, std::string* error) {
     *error = "num_threads must be >= 1";
     return false;
   }
-  if (o.linear_solver != "auto" && o.linear_solver != "sparse_normal_cholesky" &&
+  if (o.linear_solver != "auto" &&
+      o.linear_solver != "sparse_normal_cholesky" &&
       o.linear_solver != "dense_qr" &&
       o.linear_solver != "dense_normal_cholesky" &&
       o.linear_solver != "sparse_schur" && o.linear_solver != "dense_schur" &&

@@ -24,8 +24,7 @@ std::vector<std::string> Candidates() {
 
 }  // namespace
 
-bool LoadPlotModuleSymbol(const char* name, void** symbol,
-                          std::string* error) {
+bool LoadPlotModuleSymbol(const char* name, void** symbol, std::string* error) {
   // The handle is process-wide state by nature (dlopen keeps it anyway);
   // std::call_once keeps the load thread-safe.
   static std::once_flag once;

@@ -58,8 +58,8 @@ class ProgressBar {
     if (percent <= last_) return;
     last_ = percent;
     const int filled = percent / 4;
-    std::fprintf(stderr, "%s%-12s [%s%s] %3d%%", terminal_ ? "\r" : "",
-                 label_, std::string(filled, '#').c_str(),
+    std::fprintf(stderr, "%s%-12s [%s%s] %3d%%", terminal_ ? "\r" : "", label_,
+                 std::string(filled, '#').c_str(),
                  std::string(25 - filled, '.').c_str(), percent);
     if (!terminal_ || percent >= 100) std::fprintf(stderr, "\n");
     std::fflush(stderr);

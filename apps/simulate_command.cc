@@ -211,17 +211,18 @@ int RunInertialSimulation(const SimulationConfig& config,
     return Fail(error);
   }
   const ImuNoise& n = inertial.noise;
-  std::printf("simulated inertial world (seed %llu): %.6g s, %zu IMU samples "
-              "at %g Hz, %zu position fixes at %g Hz\n",
-              static_cast<unsigned long long>(config.seed),
-              NsToSeconds(data.imu.back().stamp),
-              data.imu.size(), inertial.imu_rate, data.positions.size(),
-              inertial.position_rate);
-  std::printf("IMU noise densities: gyro %g rad/s/sqrt(Hz), accel %g "
-              "m/s^2/sqrt(Hz); bias random walks: gyro %g rad/s^2/sqrt(Hz), "
-              "accel %g m/s^3/sqrt(Hz); position sigma %g m\n",
-              n.gyro_noise_density, n.accel_noise_density, n.gyro_random_walk,
-              n.accel_random_walk, inertial.position_sigma);
+  std::printf(
+      "simulated inertial world (seed %llu): %.6g s, %zu IMU samples "
+      "at %g Hz, %zu position fixes at %g Hz\n",
+      static_cast<unsigned long long>(config.seed),
+      NsToSeconds(data.imu.back().stamp), data.imu.size(), inertial.imu_rate,
+      data.positions.size(), inertial.position_rate);
+  std::printf(
+      "IMU noise densities: gyro %g rad/s/sqrt(Hz), accel %g "
+      "m/s^2/sqrt(Hz); bias random walks: gyro %g rad/s^2/sqrt(Hz), "
+      "accel %g m/s^3/sqrt(Hz); position sigma %g m\n",
+      n.gyro_noise_density, n.accel_noise_density, n.gyro_random_walk,
+      n.accel_random_walk, inertial.position_sigma);
   std::printf("wrote %s/mav0 (imu0, state_groundtruth_estimate0%s) and %s\n",
               out_dir.c_str(), data.positions.empty() ? "" : ", leica0",
               tum_path.c_str());

@@ -96,28 +96,26 @@ bool ReadVector3(const YAML::Node& node, const char* key,
 // The `inertial:` sub-section (world type inertial).
 bool ReadInertial(const YAML::Node& node, const std::string& where,
                   InertialSimulationConfig* c, std::string* error) {
-  if (!CheckKnownKeys(node,
-                      {"duration", "imu_rate", "position_rate",
-                       "position_sigma", "lever_arm", "gravity",
-                       "gyro_noise_density", "accel_noise_density",
-                       "gyro_random_walk", "accel_random_walk",
-                       "initial_gyro_bias", "initial_accel_bias",
-                       "trajectory", "trajectory_file",
-                       "trajectory_times_file", "trajectory_y_down"},
-                      where, error) ||
+  if (!CheckKnownKeys(
+          node,
+          {"duration", "imu_rate", "position_rate", "position_sigma",
+           "lever_arm", "gravity", "gyro_noise_density", "accel_noise_density",
+           "gyro_random_walk", "accel_random_walk", "initial_gyro_bias",
+           "initial_accel_bias", "trajectory", "trajectory_file",
+           "trajectory_times_file", "trajectory_y_down"},
+          where, error) ||
       !ReadOptional(node, "duration", where, &c->duration, error) ||
       !ReadOptional(node, "imu_rate", where, &c->imu_rate, error) ||
       !ReadOptional(node, "position_rate", where, &c->position_rate, error) ||
-      !ReadOptional(node, "position_sigma", where, &c->position_sigma,
-                    error) ||
+      !ReadOptional(node, "position_sigma", where, &c->position_sigma, error) ||
       !ReadVector3(node, "lever_arm", where, &c->lever_arm, error) ||
       !ReadVector3(node, "gravity", where, &c->gravity, error) ||
       !ReadOptional(node, "gyro_noise_density", where,
                     &c->noise.gyro_noise_density, error) ||
       !ReadOptional(node, "accel_noise_density", where,
                     &c->noise.accel_noise_density, error) ||
-      !ReadOptional(node, "gyro_random_walk", where,
-                    &c->noise.gyro_random_walk, error) ||
+      !ReadOptional(node, "gyro_random_walk", where, &c->noise.gyro_random_walk,
+                    error) ||
       !ReadOptional(node, "accel_random_walk", where,
                     &c->noise.accel_random_walk, error) ||
       !ReadVector3(node, "initial_gyro_bias", where, &c->initial_gyro_bias,
@@ -138,8 +136,8 @@ bool ReadInertial(const YAML::Node& node, const std::string& where,
   return CheckKnownKeys(t,
                         {"center", "amplitude", "frequency", "phase",
                          "yaw_rate", "yaw_amplitude", "yaw_frequency",
-                         "pitch_amplitude", "pitch_frequency",
-                         "roll_amplitude", "roll_frequency", "roll_phase"},
+                         "pitch_amplitude", "pitch_frequency", "roll_amplitude",
+                         "roll_frequency", "roll_phase"},
                         where, error) &&
          ReadVector3(t, "center", where, &p.center, error) &&
          ReadVector3(t, "amplitude", where, &p.amplitude, error) &&
@@ -148,10 +146,8 @@ bool ReadInertial(const YAML::Node& node, const std::string& where,
          ReadOptional(t, "yaw_rate", where, &p.yaw_rate, error) &&
          ReadOptional(t, "yaw_amplitude", where, &p.yaw_amplitude, error) &&
          ReadOptional(t, "yaw_frequency", where, &p.yaw_frequency, error) &&
-         ReadOptional(t, "pitch_amplitude", where, &p.pitch_amplitude,
-                      error) &&
-         ReadOptional(t, "pitch_frequency", where, &p.pitch_frequency,
-                      error) &&
+         ReadOptional(t, "pitch_amplitude", where, &p.pitch_amplitude, error) &&
+         ReadOptional(t, "pitch_frequency", where, &p.pitch_frequency, error) &&
          ReadOptional(t, "roll_amplitude", where, &p.roll_amplitude, error) &&
          ReadOptional(t, "roll_frequency", where, &p.roll_frequency, error) &&
          ReadOptional(t, "roll_phase", where, &p.roll_phase, error);

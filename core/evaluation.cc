@@ -127,8 +127,7 @@ Association AssociateByTimestamp(const Trajectory& ref, const Trajectory& est,
     const size_t ei = est_longer ? long_ids[k] : short_ids[k];
     result.ref_indices.push_back(ri);
     result.est_indices.push_back(ei);
-    result.max_abs_dt =
-        std::max(result.max_abs_dt, NsToSeconds(abs_diffs[k]));
+    result.max_abs_dt = std::max(result.max_abs_dt, NsToSeconds(abs_diffs[k]));
   }
   return result;
 }
@@ -136,10 +135,12 @@ Association AssociateByTimestamp(const Trajectory& ref, const Trajectory& est,
 bool AssociateByIndex(const Trajectory& ref, const Trajectory& est,
                       Association* association, std::string* error) {
   if (ref.size() != est.size()) {
-    *error = "association by index needs as many poses in both trajectories "
-             "(reference " + std::to_string(ref.size()) + ", estimate " +
-             std::to_string(est.size()) +
-             "); give stamps (e.g. a KITTI times file) to associate by time";
+    *error =
+        "association by index needs as many poses in both trajectories "
+        "(reference " +
+        std::to_string(ref.size()) + ", estimate " +
+        std::to_string(est.size()) +
+        "); give stamps (e.g. a KITTI times file) to associate by time";
     return false;
   }
   *association = Association();
@@ -202,8 +203,10 @@ std::string ExplainNoTimestampMatches(const Trajectory& ref,
     }
   }
   if (e1 < r0 || e0 > r1) {
-    msg += "; the time ranges do not overlap: if both start together, try "
-           "--t_offset " + Format("%.6f", r0 - NsToSeconds(est.front().stamp));
+    msg +=
+        "; the time ranges do not overlap: if both start together, try "
+        "--t_offset " +
+        Format("%.6f", r0 - NsToSeconds(est.front().stamp));
     return msg;
   }
   // Overlapping but nothing close enough: report the closest difference.
@@ -217,7 +220,8 @@ std::string ExplainNoTimestampMatches(const Trajectory& ref,
       closest = std::min(closest, std::fabs(NsToSeconds(it->stamp - t)));
     }
     if (it != ref.begin()) {
-      closest = std::min(closest, std::fabs(NsToSeconds(std::prev(it)->stamp - t)));
+      closest =
+          std::min(closest, std::fabs(NsToSeconds(std::prev(it)->stamp - t)));
     }
   }
   msg += "; the closest pair of stamps is " + Format("%.6f", closest) +
@@ -233,11 +237,16 @@ std::string ExplainNoTimestampMatches(const Trajectory& ref,
 
 const char* AlignmentMethodName(AlignmentMethod method) {
   switch (method) {
-    case AlignmentMethod::kNone: return "none";
-    case AlignmentMethod::kSE3: return "se3";
-    case AlignmentMethod::kSim3: return "sim3";
-    case AlignmentMethod::kScale: return "scale";
-    case AlignmentMethod::kOrigin: return "origin";
+    case AlignmentMethod::kNone:
+      return "none";
+    case AlignmentMethod::kSE3:
+      return "se3";
+    case AlignmentMethod::kSim3:
+      return "sim3";
+    case AlignmentMethod::kScale:
+      return "scale";
+    case AlignmentMethod::kOrigin:
+      return "origin";
   }
   return "?";
 }
@@ -296,8 +305,9 @@ bool UmeyamaAlignment(const std::vector<Eigen::Vector3d>& x,
     if (d[i] > std::numeric_limits<double>::epsilon()) ++rank;
   }
   if (rank < 2) {
-    *error = "degenerate covariance rank (the matched positions are "
-             "collinear or identical): Umeyama alignment is not possible";
+    *error =
+        "degenerate covariance rank (the matched positions are "
+        "collinear or identical): Umeyama alignment is not possible";
     return false;
   }
   Eigen::Matrix3d s = Eigen::Matrix3d::Identity();
@@ -305,16 +315,14 @@ bool UmeyamaAlignment(const std::vector<Eigen::Vector3d>& x,
     s(2, 2) = -1.0;  // Keep a proper rotation (det +1).
   }
   result->rotation = svd.matrixU() * s * svd.matrixV().transpose();
-  result->scale =
-      with_scale ? (d.asDiagonal() * s).trace() / sigma_x : 1.0;
+  result->scale = with_scale ? (d.asDiagonal() * s).trace() / sigma_x : 1.0;
   result->translation = mean_y - result->scale * (result->rotation * mean_x);
   return true;
 }
 
 bool ComputeAlignment(const std::vector<Pose3>& ref,
                       const std::vector<Pose3>& est, AlignmentMethod method,
-                      int n_to_align, Similarity3* result,
-                      std::string* error) {
+                      int n_to_align, Similarity3* result, std::string* error) {
   *result = Similarity3();
   if (ref.size() != est.size()) {
     *error = "alignment needs matched trajectories of equal size";
@@ -384,9 +392,12 @@ std::vector<double> ApeRotationErrorsDeg(const std::vector<Pose3>& ref,
 
 const char* DeltaUnitName(DeltaUnit unit) {
   switch (unit) {
-    case DeltaUnit::kFrames: return "frames";
-    case DeltaUnit::kMeters: return "m";
-    case DeltaUnit::kSeconds: return "s";
+    case DeltaUnit::kFrames:
+      return "frames";
+    case DeltaUnit::kMeters:
+      return "m";
+    case DeltaUnit::kSeconds:
+      return "s";
   }
   return "?";
 }
@@ -672,11 +683,12 @@ bool EvaluateTrajectories(const Trajectory& ref, const Trajectory& est,
   } else {
     result->association = AssociateByTimestamp(ref, est, settings.sync);
     if (result->association.size() == 0) {
-      *error = "found no matching timestamps between the reference and the "
-               "estimate with max. time diff " +
-               Format("%g", settings.sync.t_max_diff) + " s and time offset " +
-               Format("%g", settings.sync.t_offset) + " s: " +
-               ExplainNoTimestampMatches(ref, est, settings.sync);
+      *error =
+          "found no matching timestamps between the reference and the "
+          "estimate with max. time diff " +
+          Format("%g", settings.sync.t_max_diff) + " s and time offset " +
+          Format("%g", settings.sync.t_offset) +
+          " s: " + ExplainNoTimestampMatches(ref, est, settings.sync);
       return false;
     }
   }
@@ -732,11 +744,11 @@ std::string FormatG(double v) {
 }  // namespace
 
 std::string DescribeRpeOptions(const RpeOptions& r) {
-  std::string s = "delta " + FormatG(r.delta) + " " +
-                  DeltaUnitName(r.unit) + ", " +
-                  (r.all_pairs ? "all pairs" : "consecutive pairs") +
-                  ", pairs chosen on the " +
-                  (r.pairs_from_reference ? "reference" : "estimate (evo's default)");
+  std::string s =
+      "delta " + FormatG(r.delta) + " " + DeltaUnitName(r.unit) + ", " +
+      (r.all_pairs ? "all pairs" : "consecutive pairs") +
+      ", pairs chosen on the " +
+      (r.pairs_from_reference ? "reference" : "estimate (evo's default)");
   if (r.all_pairs && r.unit != DeltaUnit::kFrames) {
     s += ", tolerance " + FormatG(r.rel_delta_tol * 100.0) + " %";
   }

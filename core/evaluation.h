@@ -314,7 +314,7 @@ struct EvalSettings {
   AlignmentMethod align = AlignmentMethod::kSE3;
   int n_to_align = -1;  // <= 0: all pairs.
   RpeOptions rpe;
-  bool kitti = false;  // Also the KITTI devkit metric.
+  bool kitti = false;              // Also the KITTI devkit metric.
   RelationErrorOptions relations;  // slam eval --relations.
 };
 

@@ -9,22 +9,38 @@ namespace slam {
 
 const char* FactorTypeName(FactorType type) {
   switch (type) {
-    case FactorType::kBetweenSE2: return "between_se2";
-    case FactorType::kBetweenSE3: return "between_se3";
-    case FactorType::kPriorSE2: return "prior_se2";
-    case FactorType::kPriorSE3: return "prior_se3";
-    case FactorType::kRangeBearing2: return "range_bearing_2d";
-    case FactorType::kRelativePoint2: return "relative_point2";
-    case FactorType::kRelativePoint3: return "relative_point3";
-    case FactorType::kStereo: return "stereo";
-    case FactorType::kReprojection: return "reprojection";
-    case FactorType::kImu: return "imu";
-    case FactorType::kBiasRandomWalk: return "bias_random_walk";
-    case FactorType::kPosition: return "position";
-    case FactorType::kPriorVelocity: return "prior_velocity";
-    case FactorType::kPriorBias: return "prior_bias";
-    case FactorType::kMarginalizationPrior: return "marginalization_prior";
-    case FactorType::kOther: return "other";
+    case FactorType::kBetweenSE2:
+      return "between_se2";
+    case FactorType::kBetweenSE3:
+      return "between_se3";
+    case FactorType::kPriorSE2:
+      return "prior_se2";
+    case FactorType::kPriorSE3:
+      return "prior_se3";
+    case FactorType::kRangeBearing2:
+      return "range_bearing_2d";
+    case FactorType::kRelativePoint2:
+      return "relative_point2";
+    case FactorType::kRelativePoint3:
+      return "relative_point3";
+    case FactorType::kStereo:
+      return "stereo";
+    case FactorType::kReprojection:
+      return "reprojection";
+    case FactorType::kImu:
+      return "imu";
+    case FactorType::kBiasRandomWalk:
+      return "bias_random_walk";
+    case FactorType::kPosition:
+      return "position";
+    case FactorType::kPriorVelocity:
+      return "prior_velocity";
+    case FactorType::kPriorBias:
+      return "prior_bias";
+    case FactorType::kMarginalizationPrior:
+      return "marginalization_prior";
+    case FactorType::kOther:
+      return "other";
   }
   return "other";
 }
@@ -86,8 +102,7 @@ FactorId Graph::AddFactor(Factor factor) {
   if (sizes.size() != factor.keys.size()) return -1;
   for (size_t i = 0; i < factor.keys.size(); ++i) {
     const Node* node = FindNode(factor.keys[i]);
-    if (node == nullptr ||
-        static_cast<int>(node->value.size()) != sizes[i]) {
+    if (node == nullptr || static_cast<int>(node->value.size()) != sizes[i]) {
       return -1;
     }
   }
@@ -153,9 +168,12 @@ std::vector<Key> Graph::GaugeAnchors() const {
 
 const ceres::Manifold* Graph::ManifoldFor(NodeKind kind) const {
   switch (kind) {
-    case NodeKind::kPose2: return se2_manifold_.get();
-    case NodeKind::kPose3: return se3_manifold_.get();
-    default: return nullptr;
+    case NodeKind::kPose2:
+      return se2_manifold_.get();
+    case NodeKind::kPose3:
+      return se3_manifold_.get();
+    default:
+      return nullptr;
   }
 }
 
@@ -184,9 +202,9 @@ std::vector<const double*> Graph::ParameterBlocks(const Factor& factor) const {
 void Graph::BuildProblem(ceres::Problem* problem, bool use_loss) const {
   for (const auto& [key, node] : nodes_) {
     double* data = const_cast<double*>(node->value.data());
-    problem->AddParameterBlock(data, static_cast<int>(node->value.size()),
-                               const_cast<ceres::Manifold*>(
-                                   ManifoldFor(key.kind)));
+    problem->AddParameterBlock(
+        data, static_cast<int>(node->value.size()),
+        const_cast<ceres::Manifold*>(ManifoldFor(key.kind)));
     if (node->fixed) problem->SetParameterBlockConstant(data);
   }
   std::vector<double*> blocks;
@@ -230,7 +248,8 @@ double Graph::Chi2() const {
   double sum = 0.0;
   for (const auto& [id, factor] : factors_) {
     double chi2 = 0.0;
-    if (!FactorChi2(factor, &chi2)) return std::numeric_limits<double>::infinity();
+    if (!FactorChi2(factor, &chi2))
+      return std::numeric_limits<double>::infinity();
     sum += chi2;
   }
   return sum;
@@ -240,7 +259,8 @@ double Graph::RobustChi2() const {
   double sum = 0.0;
   for (const auto& [id, factor] : factors_) {
     double chi2 = 0.0;
-    if (!FactorChi2(factor, &chi2)) return std::numeric_limits<double>::infinity();
+    if (!FactorChi2(factor, &chi2))
+      return std::numeric_limits<double>::infinity();
     if (factor.loss) {
       double rho[3];
       factor.loss->Evaluate(chi2, rho);
@@ -277,8 +297,8 @@ std::vector<double> Pose2Value(const Pose2& pose) {
 }
 
 std::vector<double> Pose3Value(const Pose3& pose) {
-  return {pose.t.x(),      pose.t.y(),      pose.t.z(),     pose.q.x(),
-          pose.q.y(),      pose.q.z(),      pose.q.w()};
+  return {pose.t.x(), pose.t.y(), pose.t.z(), pose.q.x(),
+          pose.q.y(), pose.q.z(), pose.q.w()};
 }
 
 }  // namespace slam

@@ -32,8 +32,8 @@ struct Node {
   // never resize it or assign a temporary to it (a move would swap the
   // buffer); write values in place (std::copy, element access).
   std::vector<double> value;
-  bool fixed = false;         // Held constant by the optimizer.
-  TimeNs stamp = 0;           // Only meaningful when has_stamp.
+  bool fixed = false;  // Held constant by the optimizer.
+  TimeNs stamp = 0;    // Only meaningful when has_stamp.
   bool has_stamp = false;
 };
 

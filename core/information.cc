@@ -33,7 +33,6 @@ bool IsPositiveDefinite(const Eigen::MatrixXd& information) {
   return (diag.array() > 0.0).all();
 }
 
-
 bool SqrtInformation(const Eigen::MatrixXd& information,
                      Eigen::MatrixXd* sqrt_information) {
   if (!SymmetricAndFinite(information)) return false;
@@ -60,8 +59,8 @@ Eigen::MatrixXd NearestPositiveDefinite(const Eigen::MatrixXd& information,
   for (int i = 0; i < values.size(); ++i) {
     values[i] = std::max(values[i], floor_value);
   }
-  Eigen::MatrixXd repaired = eig.eigenvectors() * values.asDiagonal() *
-                             eig.eigenvectors().transpose();
+  Eigen::MatrixXd repaired =
+      eig.eigenvectors() * values.asDiagonal() * eig.eigenvectors().transpose();
   return 0.5 * (repaired + repaired.transpose());
 }
 

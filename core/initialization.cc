@@ -10,8 +10,8 @@
 #include <Eigen/SVD>
 #include <Eigen/SparseCholesky>
 
-#include "core/ordering.h"
 #include <Eigen/SparseCore>
+#include "core/ordering.h"
 
 namespace slam {
 namespace {
@@ -91,8 +91,8 @@ std::vector<int> Component(const PoseGraphView& view, int start,
   (*seen)[start] = true;
   for (size_t k = 0; k < order.size(); ++k) {
     for (int e : view.adjacency[order[k]]) {
-      const int v = view.edges[e].a == order[k] ? view.edges[e].b
-                                                : view.edges[e].a;
+      const int v =
+          view.edges[e].a == order[k] ? view.edges[e].b : view.edges[e].a;
       if (!(*seen)[v]) {
         (*seen)[v] = true;
         order.push_back(v);
@@ -251,12 +251,11 @@ bool SolveLinear(const std::vector<LinearTerm<D, M>>& terms,
 }
 
 Eigen::Matrix3d ProjectToSO3(const Eigen::Matrix3d& m) {
-  Eigen::JacobiSVD<Eigen::Matrix3d> svd(m, Eigen::ComputeFullU |
-                                               Eigen::ComputeFullV);
+  Eigen::JacobiSVD<Eigen::Matrix3d> svd(
+      m, Eigen::ComputeFullU | Eigen::ComputeFullV);
   Eigen::Matrix3d d = Eigen::Matrix3d::Identity();
-  d(2, 2) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0
-                ? -1.0
-                : 1.0;
+  d(2, 2) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0 ? -1.0
+                                                                          : 1.0;
   return svd.matrixU() * d * svd.matrixV().transpose();
 }
 
@@ -337,8 +336,7 @@ bool ChordalImpl(const PoseGraphView& view, const std::vector<bool>& anchor,
   const std::vector<int>& order = ordering.order;
   SparseLdlt solver;
   bool analyzed = false;
-  if (!SolveLinear<D, M>(terms, anchor, order, &x, &solver, &analyzed,
-                         error)) {
+  if (!SolveLinear<D, M>(terms, anchor, order, &x, &solver, &analyzed, error)) {
     return false;
   }
   std::vector<MatD> rot(n);
@@ -402,10 +400,14 @@ bool Chordal(const PoseGraphView& view, const std::vector<bool>& anchor,
 
 const char* InitMethodName(InitMethod method) {
   switch (method) {
-    case InitMethod::kNone: return "none";
-    case InitMethod::kOdometry: return "odometry";
-    case InitMethod::kSpanningTree: return "spanning_tree";
-    case InitMethod::kChordal: return "chordal";
+    case InitMethod::kNone:
+      return "none";
+    case InitMethod::kOdometry:
+      return "odometry";
+    case InitMethod::kSpanningTree:
+      return "spanning_tree";
+    case InitMethod::kChordal:
+      return "chordal";
   }
   return "none";
 }

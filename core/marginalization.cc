@@ -15,8 +15,8 @@ using RowMajorMatrix =
 // Ceres' corrector (internal/ceres/corrector.cc, Triggs et al. "Bundle
 // adjustment - a modern synthesis", section 4.3): rescales r and J so that
 // the Gauss-Newton model of 1/2 rho(|r|^2) is 1/2 |r' + J' delta|^2.
-void ApplyCorrector(const ceres::LossFunction &loss, Eigen::VectorXd *r,
-                    Eigen::MatrixXd *j) {
+void ApplyCorrector(const ceres::LossFunction& loss, Eigen::VectorXd* r,
+                    Eigen::MatrixXd* j) {
   const double sq_norm = r->squaredNorm();
   double rho[3];
   loss.Evaluate(sq_norm, rho);
@@ -39,8 +39,8 @@ void ApplyCorrector(const ceres::LossFunction &loss, Eigen::VectorXd *r,
 
 // Eigen-decomposition of a symmetric matrix with small eigenvalues (<=
 // threshold * largest, or <= 0) set to zero.
-void SymmetricEigen(const Eigen::MatrixXd &a, double rank_threshold,
-                    Eigen::VectorXd *values, Eigen::MatrixXd *vectors) {
+void SymmetricEigen(const Eigen::MatrixXd& a, double rank_threshold,
+                    Eigen::VectorXd* values, Eigen::MatrixXd* vectors) {
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> solver(0.5 *
                                                         (a + a.transpose()));
   *values = solver.eigenvalues();
@@ -54,21 +54,21 @@ void SymmetricEigen(const Eigen::MatrixXd &a, double rank_threshold,
 
 }  // namespace
 
-int NodeTangentSize(const Node &node) {
+int NodeTangentSize(const Node& node) {
   const int n = TangentSize(node.key.kind);
   return n > 0 ? n : static_cast<int>(node.value.size());
 }
 
-bool ComputeMarginalizationPrior(const Graph &graph,
-                                 const std::vector<Key> &marginalized,
-                                 const MarginalizationOptions &options,
-                                 LinearPrior *prior,
-                                 std::vector<FactorId> *used_factors,
-                                 std::string *error) {
+bool ComputeMarginalizationPrior(const Graph& graph,
+                                 const std::vector<Key>& marginalized,
+                                 const MarginalizationOptions& options,
+                                 LinearPrior* prior,
+                                 std::vector<FactorId>* used_factors,
+                                 std::string* error) {
   *prior = LinearPrior();
   used_factors->clear();
   const std::set<Key> marg(marginalized.begin(), marginalized.end());
-  for (const Key &key : marg) {
+  for (const Key& key : marg) {
     if (!graph.HasNode(key)) {
       *error = "cannot marginalise " + key.ToString() + ": no such node";
       return false;
@@ -76,27 +76,27 @@ bool ComputeMarginalizationPrior(const Graph &graph,
   }
   // The factors touching M, and the kept nodes they reach.
   std::set<Key> kept;
-  for (const auto &[id, factor] : graph.factors()) {
+  for (const auto& [id, factor] : graph.factors()) {
     bool touches = false;
-    for (const Key &k : factor.keys) touches = touches || marg.count(k) > 0;
+    for (const Key& k : factor.keys) touches = touches || marg.count(k) > 0;
     if (!touches) continue;
     used_factors->push_back(id);
-    for (const Key &k : factor.keys) {
+    for (const Key& k : factor.keys) {
       if (marg.count(k) == 0) kept.insert(k);
     }
   }
   // Tangent offsets: free marginalised nodes first, then kept nodes.
   std::map<Key, int> offset;
   int m_size = 0;
-  for (const Key &key : marg) {
-    const Node *node = graph.FindNode(key);
+  for (const Key& key : marg) {
+    const Node* node = graph.FindNode(key);
     if (node->fixed) continue;
     offset[key] = m_size;
     m_size += NodeTangentSize(*node);
   }
   int k_size = 0;
-  for (const Key &key : kept) {
-    const Node *node = graph.FindNode(key);
+  for (const Key& key : kept) {
+    const Node* node = graph.FindNode(key);
     offset[key] = m_size + k_size;
     k_size += NodeTangentSize(*node);
     prior->keys.push_back(key);
@@ -107,11 +107,11 @@ bool ComputeMarginalizationPrior(const Graph &graph,
   Eigen::MatrixXd h = Eigen::MatrixXd::Zero(n, n);
   Eigen::VectorXd b = Eigen::VectorXd::Zero(n);
 
-  std::vector<const double *> params;
+  std::vector<const double*> params;
   std::vector<RowMajorMatrix> ambient_jacobians;
-  std::vector<double *> jacobian_ptrs;
+  std::vector<double*> jacobian_ptrs;
   for (FactorId id : *used_factors) {
-    const Factor &factor = *graph.FindFactor(id);
+    const Factor& factor = *graph.FindFactor(id);
     const int rows = factor.cost->num_residuals();
     params = graph.ParameterBlocks(factor);
     ambient_jacobians.resize(factor.keys.size());
@@ -132,7 +132,7 @@ bool ComputeMarginalizationPrior(const Graph &graph,
     std::vector<int> cols;
     std::vector<int> block_offset;
     int width = 0;
-    for (const Key &key : factor.keys) {
+    for (const Key& key : factor.keys) {
       auto it = offset.find(key);
       block_offset.push_back(it == offset.end() ? -1 : width);
       const int t = NodeTangentSize(*graph.FindNode(key));
@@ -144,8 +144,8 @@ bool ComputeMarginalizationPrior(const Graph &graph,
     Eigen::MatrixXd j = Eigen::MatrixXd::Zero(rows, width);
     for (size_t k = 0; k < factor.keys.size(); ++k) {
       if (block_offset[k] < 0) continue;  // Fixed marginalised node.
-      const Node *node = graph.FindNode(factor.keys[k]);
-      const ceres::Manifold *manifold = graph.ManifoldFor(node->key.kind);
+      const Node* node = graph.FindNode(factor.keys[k]);
+      const ceres::Manifold* manifold = graph.ManifoldFor(node->key.kind);
       const int t = NodeTangentSize(*node);
       if (manifold == nullptr) {
         j.middleCols(block_offset[k], t) = ambient_jacobians[k];
@@ -204,10 +204,10 @@ bool ComputeMarginalizationPrior(const Graph &graph,
   return true;
 }
 
-bool MarginalizeNodes(Graph *graph, const std::vector<Key> &marginalized,
-                      const MarginalizationOptions &options,
-                      const PriorFactorBuilder &builder, FactorId *prior_id,
-                      std::string *error) {
+bool MarginalizeNodes(Graph* graph, const std::vector<Key>& marginalized,
+                      const MarginalizationOptions& options,
+                      const PriorFactorBuilder& builder, FactorId* prior_id,
+                      std::string* error) {
   if (prior_id != nullptr) *prior_id = -1;
   LinearPrior prior;
   std::vector<FactorId> used;
@@ -226,7 +226,7 @@ bool MarginalizeNodes(Graph *graph, const std::vector<Key> &marginalized,
     factor.type = FactorType::kMarginalizationPrior;
   }
   for (FactorId id : used) graph->RemoveFactor(id);
-  for (const Key &key : marginalized) graph->RemoveNode(key);
+  for (const Key& key : marginalized) graph->RemoveNode(key);
   if (add) {
     const FactorId id = graph->AddFactor(std::move(factor));
     if (id < 0) {

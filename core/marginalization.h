@@ -72,31 +72,31 @@ struct LinearPrior {
 
 // Tangent size of a node (its kind's, or its value size for Euclidean
 // variable-size kinds).
-int NodeTangentSize(const Node &node);
+int NodeTangentSize(const Node& node);
 
 // Linearises the factors touching `marginalized` at the current values and
 // Schur-complements the marginalised block. Fills *prior (its keys may be
 // empty when the marginalised nodes connect to nothing else) and the ids of
 // the factors used. Does not modify the graph.
-bool ComputeMarginalizationPrior(const Graph &graph,
-                                 const std::vector<Key> &marginalized,
-                                 const MarginalizationOptions &options,
-                                 LinearPrior *prior,
-                                 std::vector<FactorId> *used_factors,
-                                 std::string *error);
+bool ComputeMarginalizationPrior(const Graph& graph,
+                                 const std::vector<Key>& marginalized,
+                                 const MarginalizationOptions& options,
+                                 LinearPrior* prior,
+                                 std::vector<FactorId>* used_factors,
+                                 std::string* error);
 
 // Builds the graph factor (type kMarginalizationPrior) for a prior.
 using PriorFactorBuilder = std::function<bool(
-    const LinearPrior &prior, Factor *factor, std::string *error)>;
+    const LinearPrior& prior, Factor* factor, std::string* error)>;
 
 // ComputeMarginalizationPrior, then removes the used factors and the
 // marginalised nodes from the graph and adds the prior built by `builder`
 // (none when it has no rows or no keys). *prior_id is the new factor's id or
 // -1 when none was added (may be nullptr).
-bool MarginalizeNodes(Graph *graph, const std::vector<Key> &marginalized,
-                      const MarginalizationOptions &options,
-                      const PriorFactorBuilder &builder, FactorId *prior_id,
-                      std::string *error);
+bool MarginalizeNodes(Graph* graph, const std::vector<Key>& marginalized,
+                      const MarginalizationOptions& options,
+                      const PriorFactorBuilder& builder, FactorId* prior_id,
+                      std::string* error);
 
 }  // namespace slam
 

@@ -55,10 +55,11 @@ bool ComputeMarginals(Graph* graph, const std::vector<Key>& keys,
   }
   for (const Key& key : keys) {
     const Node* node = graph->FindNode(key);
-    const int n = TangentSize(key.kind) > 0 ? TangentSize(key.kind)
-                                           : static_cast<int>(node->value.size());
+    const int n = TangentSize(key.kind) > 0
+                      ? TangentSize(key.kind)
+                      : static_cast<int>(node->value.size());
     Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> c(n,
-                                                                            n);
+                                                                             n);
     if (!covariance.GetCovarianceBlockInTangentSpace(
             node->value.data(), node->value.data(), c.data())) {
       *error = "could not extract the covariance of " + key.ToString();

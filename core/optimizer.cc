@@ -9,9 +9,9 @@
 
 #include "ceres/iteration_callback.h"
 #include "ceres/ordered_groups.h"
-#include "core/ordering.h"
 #include "ceres/problem.h"
 #include "ceres/solver.h"
+#include "core/ordering.h"
 
 namespace slam {
 namespace {
@@ -28,7 +28,7 @@ class ProgressPrinter : public ceres::IterationCallback {
                   s.iteration, CeresCostToChi2(s.cost),
                   CeresCostToChi2(s.cost_change), s.step_norm,
                   s.trust_region_radius,
-                  s.iteration == 0 ? "    "
+                  s.iteration == 0       ? "    "
                   : s.step_is_successful ? "ok  "
                                          : "rej ",
                   s.cumulative_time_in_seconds);
@@ -136,8 +136,8 @@ bool SetOrdering(const Graph& graph, const std::string& method,
                                       : static_cast<int>(node->value.size());
   }
   *flops_per_entry = result.factor_nonzeros > 0
-                         ? result.factor_flops / result.factor_nonzeros *
-                               dofs / static_cast<double>(blocks.size())
+                         ? result.factor_flops / result.factor_nonzeros * dofs /
+                               static_cast<double>(blocks.size())
                          : 0.0;
   return true;
 }
@@ -146,9 +146,12 @@ bool SetOrdering(const Graph& graph, const std::string& method,
 
 const char* SolverKindName(SolverKind kind) {
   switch (kind) {
-    case SolverKind::kLevenbergMarquardt: return "lm";
-    case SolverKind::kGaussNewton: return "gn";
-    case SolverKind::kDogleg: return "dogleg";
+    case SolverKind::kLevenbergMarquardt:
+      return "lm";
+    case SolverKind::kGaussNewton:
+      return "gn";
+    case SolverKind::kDogleg:
+      return "dogleg";
   }
   return "lm";
 }
@@ -195,7 +198,8 @@ OptimizerSummary Optimize(Graph* graph, const OptimizerOptions& options,
   solver_options.linear_solver_type =
       LinearSolverFromName(options.linear_solver, &linear_ok);
   if (!linear_ok) {
-    summary.termination = "unknown linear solver '" + options.linear_solver + "'";
+    summary.termination =
+        "unknown linear solver '" + options.linear_solver + "'";
     return summary;
   }
   if (options.sparse_library != "auto" &&
@@ -274,8 +278,8 @@ OptimizerSummary Optimize(Graph* graph, const OptimizerOptions& options,
     std::string method;
     ceres::Solver::Options analysis_only;
     if (options.sparse_library == "auto") {
-      if (!SetOrdering(*graph, "amd", &analysis_only, &method,
-                       &flops_per_entry, &ordering_error)) {
+      if (!SetOrdering(*graph, "amd", &analysis_only, &method, &flops_per_entry,
+                       &ordering_error)) {
         summary.termination = ordering_error;
         return summary;
       }
@@ -284,8 +288,8 @@ OptimizerSummary Optimize(Graph* graph, const OptimizerOptions& options,
                                    : "eigen_sparse";
     }
     const bool dense = summary.sparse_library == "suite_sparse";
-    const std::string wanted =
-        options.ordering == "auto" ? (dense ? "auto" : "ceres")
+    const std::string wanted = options.ordering == "auto"
+                                   ? (dense ? "auto" : "ceres")
                                    : options.ordering;
     if (wanted != "ceres") {
       if (!SetOrdering(*graph, wanted, &solver_options, &summary.ordering,

@@ -71,17 +71,17 @@ struct OptimizerSummary {
   double final_chi2 = 0.0;           // ... after.
   double initial_robust_chi2 = 0.0;  // sum rho(e^T Omega e) before.
   double final_robust_chi2 = 0.0;
-  int iterations = 0;        // Ceres iterations (successful or not).
-  bool converged = false;    // Stopped on a convergence test.
-  bool usable = false;       // Result usable (converged or hit the limit).
+  int iterations = 0;      // Ceres iterations (successful or not).
+  bool converged = false;  // Stopped on a convergence test.
+  bool usable = false;     // Result usable (converged or hit the limit).
   double solve_seconds = 0.0;
-  std::string linear_solver;  // What was used.
+  std::string linear_solver;         // What was used.
   std::string linear_solver_reason;  // Why, when "auto" chose by the graph.
-  std::string ordering;       // Elimination ordering used.
-  std::string sparse_library;  // Sparse linear algebra library used.
-  std::string termination;    // Ceres' message.
-  std::string gauge;          // How the gauge freedom was removed.
-  std::string full_report;    // Ceres' FullReport (timing breakdown).
+  std::string ordering;              // Elimination ordering used.
+  std::string sparse_library;        // Sparse linear algebra library used.
+  std::string termination;           // Ceres' message.
+  std::string gauge;                 // How the gauge freedom was removed.
+  std::string full_report;           // Ceres' FullReport (timing breakdown).
 };
 
 // Optimizes the graph in place. The gauge (Graph::GaugeAnchors): fixed

@@ -53,10 +53,10 @@ bool FillReducingOrdering(int num_nodes,
     }
   }
   common.postorder = 1;
-  cholmod_sparse* a = cholmod_allocate_sparse(num_nodes, num_nodes, nnz,
-                                              /*sorted=*/1, /*packed=*/1,
-                                              /*stype=*/1, CHOLMOD_PATTERN,
-                                              &common);
+  cholmod_sparse* a =
+      cholmod_allocate_sparse(num_nodes, num_nodes, nnz,
+                              /*sorted=*/1, /*packed=*/1,
+                              /*stype=*/1, CHOLMOD_PATTERN, &common);
   if (a == nullptr) {
     cholmod_finish(&common);
     *error = "CHOLMOD could not allocate the ordering pattern";
@@ -76,10 +76,18 @@ bool FillReducingOrdering(int num_nodes,
     const int* perm = static_cast<const int*>(factor->Perm);
     result->order.assign(perm, perm + num_nodes);
     switch (common.method[common.selected].ordering) {
-      case CHOLMOD_AMD: result->method = "amd"; break;
-      case CHOLMOD_METIS: result->method = "metis"; break;
-      case CHOLMOD_NESDIS: result->method = "nesdis"; break;
-      default: result->method = "other"; break;
+      case CHOLMOD_AMD:
+        result->method = "amd";
+        break;
+      case CHOLMOD_METIS:
+        result->method = "metis";
+        break;
+      case CHOLMOD_NESDIS:
+        result->method = "nesdis";
+        break;
+      default:
+        result->method = "other";
+        break;
     }
     result->factor_nonzeros = common.lnz;
     result->factor_flops = common.fl;

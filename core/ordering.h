@@ -18,8 +18,8 @@
 namespace slam {
 
 struct OrderingResult {
-  std::vector<int> order;  // Node indices in elimination order.
-  std::string method;      // "amd", "metis", "nesdis" or "natural".
+  std::vector<int> order;        // Node indices in elimination order.
+  std::string method;            // "amd", "metis", "nesdis" or "natural".
   double factor_nonzeros = 0.0;  // nnz(L) of the node-level pattern.
   double factor_flops = 0.0;     // Flops of its Cholesky factorization.
 };

@@ -25,9 +25,9 @@ SlidingWindow::SlidingWindow(SlidingWindowOptions options)
     : options_(std::move(options)) {}
 
 bool SlidingWindow::AddKeyframe(TimeNs stamp,
-                                const std::vector<NodeValue> &nodes,
+                                const std::vector<NodeValue>& nodes,
                                 std::vector<Factor> factors,
-                                std::string *error) {
+                                std::string* error) {
   if (!keyframes_.empty() && stamp <= keyframes_.back().stamp) {
     *error = "keyframe stamps must increase";
     return false;
@@ -35,10 +35,10 @@ bool SlidingWindow::AddKeyframe(TimeNs stamp,
   Keyframe keyframe;
   keyframe.stamp = stamp;
   auto roll_back = [&]() {
-    for (const Key &key : keyframe.keys) graph_.RemoveNode(key);
+    for (const Key& key : keyframe.keys) graph_.RemoveNode(key);
   };
-  for (const auto &[key, value] : nodes) {
-    Node *node = graph_.AddNode(key, value);
+  for (const auto& [key, value] : nodes) {
+    Node* node = graph_.AddNode(key, value);
     if (node == nullptr) {
       *error = "keyframe node " + key.ToString() +
                (graph_.HasNode(key) ? " already exists" : " has a bad size");
@@ -49,7 +49,7 @@ bool SlidingWindow::AddKeyframe(TimeNs stamp,
     node->has_stamp = true;
     keyframe.keys.push_back(key);
   }
-  for (Factor &factor : factors) {
+  for (Factor& factor : factors) {
     const FactorType type = factor.type;
     if (graph_.AddFactor(std::move(factor)) < 0) {
       *error = std::string("keyframe factor (") + FactorTypeName(type) +
@@ -62,7 +62,7 @@ bool SlidingWindow::AddKeyframe(TimeNs stamp,
   return true;
 }
 
-bool SlidingWindow::AddFactor(Factor factor, std::string *error) {
+bool SlidingWindow::AddFactor(Factor factor, std::string* error) {
   if (graph_.AddFactor(std::move(factor)) < 0) {
     *error = "factor references a node outside the window or has wrong sizes";
     return false;
@@ -70,7 +70,7 @@ bool SlidingWindow::AddFactor(Factor factor, std::string *error) {
   return true;
 }
 
-bool SlidingWindow::Update(WindowUpdateStats *stats, std::string *error) {
+bool SlidingWindow::Update(WindowUpdateStats* stats, std::string* error) {
   const auto start = std::chrono::steady_clock::now();
   WindowUpdateStats local;
   local.keyframes = NumKeyframes();
@@ -81,7 +81,7 @@ bool SlidingWindow::Update(WindowUpdateStats *stats, std::string *error) {
     if (!ceres::StringToLinearSolverType(
             [&] {
               std::string upper = options_.linear_solver;
-              for (char &c : upper) c = static_cast<char>(std::toupper(c));
+              for (char& c : upper) c = static_cast<char>(std::toupper(c));
               return upper;
             }(),
             &solver.linear_solver_type)) {
@@ -118,36 +118,36 @@ bool SlidingWindow::Update(WindowUpdateStats *stats, std::string *error) {
   return true;
 }
 
-bool SlidingWindow::MarginalizeOldest(std::string *error) {
-  const Keyframe &oldest = keyframes_.front();
+bool SlidingWindow::MarginalizeOldest(std::string* error) {
+  const Keyframe& oldest = keyframes_.front();
   std::vector<std::pair<Key, std::vector<double>>> values;
-  for (const Key &key : oldest.keys) {
+  for (const Key& key : oldest.keys) {
     values.emplace_back(key, graph_.FindNode(key)->value);
   }
   if (!MarginalizeNodes(&graph_, oldest.keys, options_.marginalization,
                         options_.prior_builder, nullptr, error)) {
     return false;
   }
-  for (auto &[key, value] : values) final_values_[key] = std::move(value);
+  for (auto& [key, value] : values) final_values_[key] = std::move(value);
   keyframes_.pop_front();
   return true;
 }
 
-bool SlidingWindow::Covariances(const std::vector<Key> &keys,
-                                std::map<Key, Eigen::MatrixXd> *covariances,
-                                std::string *error) {
+bool SlidingWindow::Covariances(const std::vector<Key>& keys,
+                                std::map<Key, Eigen::MatrixXd>* covariances,
+                                std::string* error) {
   return ComputeMarginals(&graph_, keys, covariances, error);
 }
 
 std::vector<std::vector<Key>> SlidingWindow::WindowKeys() const {
   std::vector<std::vector<Key>> keys;
-  for (const Keyframe &k : keyframes_) keys.push_back(k.keys);
+  for (const Keyframe& k : keyframes_) keys.push_back(k.keys);
   return keys;
 }
 
 void SlidingWindow::Finish() {
-  for (const Keyframe &k : keyframes_) {
-    for (const Key &key : k.keys) {
+  for (const Keyframe& k : keyframes_) {
+    for (const Key& key : k.keys) {
       final_values_[key] = graph_.FindNode(key)->value;
     }
   }

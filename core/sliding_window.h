@@ -72,36 +72,36 @@ class SlidingWindow {
   // Adds the keyframe's nodes (stamped with `stamp`) and factors. The
   // factors may reference the new nodes and any node still in the window.
   // On failure nothing is added.
-  bool AddKeyframe(TimeNs stamp, const std::vector<NodeValue> &nodes,
-                   std::vector<Factor> factors, std::string *error);
+  bool AddKeyframe(TimeNs stamp, const std::vector<NodeValue>& nodes,
+                   std::vector<Factor> factors, std::string* error);
   // Adds a factor between nodes in the window (e.g. a late measurement).
-  bool AddFactor(Factor factor, std::string *error);
+  bool AddFactor(Factor factor, std::string* error);
   // Optimizes the window; marginalises the oldest keyframe when full.
-  bool Update(WindowUpdateStats *stats, std::string *error);
+  bool Update(WindowUpdateStats* stats, std::string* error);
 
   // Marginal covariances (tangent space, core/marginals.h) of window nodes.
-  bool Covariances(const std::vector<Key> &keys,
-                   std::map<Key, Eigen::MatrixXd> *covariances,
-                   std::string *error);
+  bool Covariances(const std::vector<Key>& keys,
+                   std::map<Key, Eigen::MatrixXd>* covariances,
+                   std::string* error);
 
-  const Graph &graph() const { return graph_; }
-  Graph *mutable_graph() { return &graph_; }
+  const Graph& graph() const { return graph_; }
+  Graph* mutable_graph() { return &graph_; }
   int NumKeyframes() const { return static_cast<int>(keyframes_.size()); }
   // Keys of the keyframes in the window, oldest first.
   std::vector<std::vector<Key>> WindowKeys() const;
   // The value every state had when it was marginalised (its fixed-lag
   // smoothed estimate), plus, after Finish(), those still in the window.
-  const std::map<Key, std::vector<double>> &final_values() const {
+  const std::map<Key, std::vector<double>>& final_values() const {
     return final_values_;
   }
   // Copies the states still in the window into final_values().
   void Finish();
   // Wall time of every Update() call, seconds.
-  const std::vector<double> &update_seconds() const { return update_seconds_; }
-  const SlidingWindowOptions &options() const { return options_; }
+  const std::vector<double>& update_seconds() const { return update_seconds_; }
+  const SlidingWindowOptions& options() const { return options_; }
 
  private:
-  bool MarginalizeOldest(std::string *error);
+  bool MarginalizeOldest(std::string* error);
 
   struct Keyframe {
     TimeNs stamp = 0;

@@ -19,9 +19,9 @@ struct StampedPose {
 using Trajectory = std::vector<StampedPose>;
 
 inline Pose3 LiftPose2(const Pose2& p) {
-  return Pose3(Eigen::Vector3d(p.t.x(), p.t.y(), 0.0),
-               Eigen::Quaterniond(
-                   Eigen::AngleAxisd(p.theta, Eigen::Vector3d::UnitZ())));
+  return Pose3(
+      Eigen::Vector3d(p.t.x(), p.t.y(), 0.0),
+      Eigen::Quaterniond(Eigen::AngleAxisd(p.theta, Eigen::Vector3d::UnitZ())));
 }
 
 }  // namespace slam

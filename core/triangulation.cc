@@ -4,15 +4,15 @@
 
 namespace slam {
 
-Eigen::Vector2d InvertRangeBearing(const Pose2 &pose, double range,
+Eigen::Vector2d InvertRangeBearing(const Pose2& pose, double range,
                                    double bearing) {
   const double angle = pose.theta + bearing;
   return pose.t + range * Eigen::Vector2d(std::cos(angle), std::sin(angle));
 }
 
-bool TriangulateStereo(const Pose3 &camera, double fx, double fy, double cx,
+bool TriangulateStereo(const Pose3& camera, double fx, double fy, double cx,
                        double cy, double baseline,
-                       const Eigen::Vector3d &uL_uR_v, Eigen::Vector3d *point) {
+                       const Eigen::Vector3d& uL_uR_v, Eigen::Vector3d* point) {
   const double disparity = uL_uR_v[0] - uL_uR_v[1];
   if (!(disparity > 0.0) || !(fx > 0.0) || !(fy > 0.0)) return false;
   const double z = fx * baseline / disparity;
@@ -22,9 +22,9 @@ bool TriangulateStereo(const Pose3 &camera, double fx, double fy, double cx,
   return point->allFinite();
 }
 
-bool TriangulateMidpoint(const Eigen::Vector3d &o1, const Eigen::Vector3d &d1,
-                         const Eigen::Vector3d &o2, const Eigen::Vector3d &d2,
-                         Eigen::Vector3d *point, double min_sin_angle) {
+bool TriangulateMidpoint(const Eigen::Vector3d& o1, const Eigen::Vector3d& d1,
+                         const Eigen::Vector3d& o2, const Eigen::Vector3d& d2,
+                         Eigen::Vector3d* point, double min_sin_angle) {
   const double n1 = d1.norm();
   const double n2 = d2.norm();
   if (!(n1 > 0.0) || !(n2 > 0.0)) return false;

@@ -23,10 +23,10 @@ constexpr int kProgressSteps = 100;
 
 // Geometry of the FLASER or RLASER lasers as the PARAM lines set it.
 struct OldLaserParams {
-  const char *fov_key;
-  const char *resolution_key;
-  const char *max_key;
-  const char *offset_key;
+  const char* fov_key;
+  const char* resolution_key;
+  const char* max_key;
+  const char* offset_key;
   double fov_deg = 0.0;         // 0: not given.
   double resolution_deg = 0.0;  // 0: not given.
   double max_range = 0.0;       // 0: not given.
@@ -43,8 +43,8 @@ double GuessIncrement(int64_t n, double fov) {
 
 class Parser {
  public:
-  Parser(const std::string &name, const CarmenReadOptions &options,
-         CarmenLog *log)
+  Parser(const std::string& name, const CarmenReadOptions& options,
+         CarmenLog* log)
       : name_(name), options_(options), log_(log) {
     front_ = {"laser_front_laser_fov", "laser_front_laser_resolution",
               "robot_front_laser_max", "robot_frontlaser_offset"};
@@ -52,14 +52,14 @@ class Parser {
              "robot_rear_laser_max", "robot_rearlaser_offset"};
   }
 
-  bool Parse(std::string_view text, const ProgressCallback &progress,
-             double progress_start, std::string *error) {
+  bool Parse(std::string_view text, const ProgressCallback& progress,
+             double progress_start, std::string* error) {
     text::LineTokenizer tokenizer(text);
     size_t next_report = 0;
     const size_t step = std::max<size_t>(1, text.size() / kProgressSteps);
     while (tokenizer.Next()) {
       line_ = tokenizer.line();
-      const auto &tokens = tokenizer.tokens();
+      const auto& tokens = tokenizer.tokens();
       if (progress) {
         const size_t done = static_cast<size_t>(tokens[0].data() - text.data());
         if (done >= next_report) {
@@ -75,7 +75,7 @@ class Parser {
         return false;
       }
     }
-    for (const auto &[tag, count] : skipped_) {
+    for (const auto& [tag, count] : skipped_) {
       log_->warnings.push_back(name_ + ": skipped " + std::to_string(count) +
                                " " + tag + " line(s) (tag not read)");
     }
@@ -86,7 +86,7 @@ class Parser {
  private:
   using Tokens = std::vector<std::string_view>;
 
-  bool ParseLine(const Tokens &tokens, std::string *problem) {
+  bool ParseLine(const Tokens& tokens, std::string* problem) {
     const std::string_view tag = tokens[0];
     if (tag == "PARAM") return ParseParam(tokens, problem);
     if (tag == "ODOM") return ParseOdom(tokens, problem);
@@ -107,13 +107,13 @@ class Parser {
     return true;
   }
 
-  bool ParseParam(const Tokens &tokens, std::string *problem) {
+  bool ParseParam(const Tokens& tokens, std::string* problem) {
     if (!text::CheckMinFieldCount(tokens, 2, problem)) return false;
     const std::string key(tokens[1]);
     const std::string value(tokens[2]);
     log_->params[key] = value;
-    for (OldLaserParams *laser : {&front_, &rear_}) {
-      double *target = nullptr;
+    for (OldLaserParams* laser : {&front_, &rear_}) {
+      double* target = nullptr;
       bool positive = true;
       if (key == laser->fov_key) target = &laser->fov_deg;
       if (key == laser->resolution_key) target = &laser->resolution_deg;
@@ -136,7 +136,7 @@ class Parser {
   }
 
   // The trailing "ipc_timestamp host logger_timestamp" of a message.
-  bool ParseTrailer(const Tokens &tokens, TimeNs *stamp, std::string *problem) {
+  bool ParseTrailer(const Tokens& tokens, TimeNs* stamp, std::string* problem) {
     const size_t n = tokens.size();
     double logger = 0.0;
     if (!ParseStampSeconds(std::string(tokens[n - 3]), stamp)) {
@@ -154,7 +154,7 @@ class Parser {
     return true;
   }
 
-  bool ParseOdom(const Tokens &tokens, std::string *problem) {
+  bool ParseOdom(const Tokens& tokens, std::string* problem) {
     if (!text::CheckFieldCount(tokens, 9, problem)) return false;
     double v[6];
     if (!text::ParseDoubles(tokens, 1, 6, v, problem)) return false;
@@ -168,8 +168,8 @@ class Parser {
   }
 
   // Reads the count of readings at tokens[index] (0 .. kMaxReadings).
-  bool ParseCount(const Tokens &tokens, size_t index, const char *what,
-                  int64_t *n, std::string *problem) {
+  bool ParseCount(const Tokens& tokens, size_t index, const char* what,
+                  int64_t* n, std::string* problem) {
     if (!text::CheckMinFieldCount(tokens, index, problem)) return false;
     if (!text::ParseInt64(tokens[index], n) || *n < 0 || *n > kMaxReadings) {
       *problem = std::string("bad ") + what + " '" +
@@ -180,8 +180,8 @@ class Parser {
     return true;
   }
 
-  bool ParseRanges(const Tokens &tokens, size_t first, int64_t n,
-                   std::vector<float> *ranges, std::string *problem) {
+  bool ParseRanges(const Tokens& tokens, size_t first, int64_t n,
+                   std::vector<float>* ranges, std::string* problem) {
     ranges->resize(static_cast<size_t>(n));
     for (int64_t k = 0; k < n; ++k) {
       double r = 0.0;
@@ -197,8 +197,8 @@ class Parser {
     return true;
   }
 
-  bool ParseOldLaser(const Tokens &tokens, const OldLaserParams &params,
-                     const Pose2 &offset, std::string *problem) {
+  bool ParseOldLaser(const Tokens& tokens, const OldLaserParams& params,
+                     const Pose2& offset, std::string* problem) {
     int64_t n = 0;
     if (!ParseCount(tokens, 1, "number of readings", &n, problem) ||
         !text::CheckFieldCount(tokens, 1 + n + 9, problem)) {
@@ -228,7 +228,7 @@ class Parser {
     return true;
   }
 
-  bool ParseRobotLaser(const Tokens &tokens, std::string *problem) {
+  bool ParseRobotLaser(const Tokens& tokens, std::string* problem) {
     int64_t n = 0;
     int64_t n_rem = 0;
     if (!ParseCount(tokens, 8, "number of readings", &n, problem) ||
@@ -274,40 +274,40 @@ class Parser {
     return true;
   }
 
-  const std::string &name_;
-  const CarmenReadOptions &options_;
-  CarmenLog *log_;
+  const std::string& name_;
+  const CarmenReadOptions& options_;
+  CarmenLog* log_;
   int64_t line_ = 0;
   OldLaserParams front_;
   OldLaserParams rear_;
   std::map<std::string, int64_t> skipped_;
 };
 
-bool IsBzip2(const std::string &data) {
+bool IsBzip2(const std::string& data) {
   return data.size() >= 4 && data.compare(0, 3, "BZh") == 0 && data[3] >= '1' &&
          data[3] <= '9';
 }
 
-void AppendFloat(float value, std::string *out) {
+void AppendFloat(float value, std::string* out) {
   char buffer[32];
   const std::to_chars_result r =
       std::to_chars(buffer, buffer + sizeof(buffer), value);
   out->append(buffer, r.ptr);
 }
 
-void AppendPose(const Pose2 &p, std::string *out) {
+void AppendPose(const Pose2& p, std::string* out) {
   for (double v : {p.t.x(), p.t.y(), p.theta}) {
     out->push_back(' ');
     text::AppendDouble(v, out);
   }
 }
 
-void AppendTrailer(TimeNs stamp, std::string *out) {
+void AppendTrailer(TimeNs stamp, std::string* out) {
   const std::string s = FormatStampSeconds(stamp);
   *out += ' ' + s + " nohost " + s + '\n';
 }
 
-void AppendScan(const LaserScan &scan, std::string *out) {
+void AppendScan(const LaserScan& scan, std::string* out) {
   *out += scan.tag;
   const bool robot_laser = scan.tag == "ROBOTLASER1";
   if (robot_laser) {
@@ -341,9 +341,9 @@ void AppendScan(const LaserScan &scan, std::string *out) {
 
 }  // namespace
 
-bool Bzip2Decompress(const std::string &name, const std::string &compressed,
-                     std::string *text, std::string *error,
-                     const ProgressCallback &progress) {
+bool Bzip2Decompress(const std::string& name, const std::string& compressed,
+                     std::string* text, std::string* error,
+                     const ProgressCallback& progress) {
   text->clear();
   text->resize(std::max<size_t>(compressed.size() * 8, 1 << 16));
   size_t produced = 0;
@@ -357,7 +357,7 @@ bool Bzip2Decompress(const std::string &name, const std::string &compressed,
       *error = name + ": cannot start bzip2 decompression";
       return false;
     }
-    stream.next_in = const_cast<char *>(compressed.data() + consumed);
+    stream.next_in = const_cast<char*>(compressed.data() + consumed);
     stream.avail_in = static_cast<unsigned int>(
         std::min<size_t>(compressed.size() - consumed, 1u << 30));
     int status = BZ_OK;
@@ -397,9 +397,9 @@ bool Bzip2Decompress(const std::string &name, const std::string &compressed,
   return true;
 }
 
-bool ParseCarmenLog(const std::string &name, const std::string &text,
-                    const CarmenReadOptions &options, CarmenLog *log,
-                    std::string *error, ProgressCallback progress) {
+bool ParseCarmenLog(const std::string& name, const std::string& text,
+                    const CarmenReadOptions& options, CarmenLog* log,
+                    std::string* error, ProgressCallback progress) {
   *log = CarmenLog();
   Parser parser(name, options, log);
   if (!parser.Parse(text, progress, 0.0, error)) {
@@ -409,8 +409,8 @@ bool ParseCarmenLog(const std::string &name, const std::string &text,
   return true;
 }
 
-bool ReadCarmenLog(const std::string &path, const CarmenReadOptions &options,
-                   CarmenLog *log, std::string *error,
+bool ReadCarmenLog(const std::string& path, const CarmenReadOptions& options,
+                   CarmenLog* log, std::string* error,
                    ProgressCallback progress) {
   *log = CarmenLog();
   std::string data;
@@ -430,11 +430,11 @@ bool ReadCarmenLog(const std::string &path, const CarmenReadOptions &options,
   return true;
 }
 
-bool WriteCarmenLog(const std::string &path, const CarmenLog &log,
-                    std::string *error) {
+bool WriteCarmenLog(const std::string& path, const CarmenLog& log,
+                    std::string* error) {
   std::string out =
       "# written by slam: PARAM, ODOM, FLASER/RLASER/ROBOTLASER1\n";
-  for (const auto &[key, value] : log.params) {
+  for (const auto& [key, value] : log.params) {
     out += "PARAM " + key + " " + value + " nohost 0\n";
   }
   // (stamp, kind (0 odometry, 1 scan), index), merged by stamp.
@@ -444,7 +444,7 @@ bool WriteCarmenLog(const std::string &path, const CarmenLog &log,
     order.emplace_back(log.odometry[i].stamp, 0, i);
   }
   for (size_t i = 0; i < log.scans.size(); ++i) {
-    const std::string &tag = log.scans[i].tag;
+    const std::string& tag = log.scans[i].tag;
     if (tag != "FLASER" && tag != "RLASER" && tag != "ROBOTLASER1") {
       *error = path + ": scan " + std::to_string(i) + " has the unknown tag '" +
                text::Printable(tag) + "'";
@@ -453,17 +453,17 @@ bool WriteCarmenLog(const std::string &path, const CarmenLog &log,
     order.emplace_back(log.scans[i].stamp, 1, i);
   }
   std::stable_sort(order.begin(), order.end(),
-                   [](const auto &a, const auto &b) {
+                   [](const auto& a, const auto& b) {
                      return std::get<0>(a) != std::get<0>(b)
                                 ? std::get<0>(a) < std::get<0>(b)
                                 : std::get<1>(a) < std::get<1>(b);
                    });
-  for (const auto &[stamp, kind, index] : order) {
+  for (const auto& [stamp, kind, index] : order) {
     if (kind == 1) {
       AppendScan(log.scans[index], &out);
       continue;
     }
-    const OdometryReading &o = log.odometry[index];
+    const OdometryReading& o = log.odometry[index];
     out += "ODOM";
     AppendPose(o.pose, &out);
     for (double v : {o.tv, o.rv, 0.0}) {

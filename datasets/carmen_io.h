@@ -98,14 +98,14 @@ struct CarmenReadOptions {
   double default_max_range = 81.9;
 };
 
-bool ReadCarmenLog(const std::string &path, const CarmenReadOptions &options,
-                   CarmenLog *log, std::string *error,
+bool ReadCarmenLog(const std::string& path, const CarmenReadOptions& options,
+                   CarmenLog* log, std::string* error,
                    ProgressCallback progress = nullptr);
 
 // Parses log text already in memory (name is used in error messages).
-bool ParseCarmenLog(const std::string &name, const std::string &text,
-                    const CarmenReadOptions &options, CarmenLog *log,
-                    std::string *error, ProgressCallback progress = nullptr);
+bool ParseCarmenLog(const std::string& name, const std::string& text,
+                    const CarmenReadOptions& options, CarmenLog* log,
+                    std::string* error, ProgressCallback progress = nullptr);
 
 // Writes a plain-text log: the PARAM lines (name order), then the ODOM and
 // laser lines merged by stamp (ODOM first on equal stamps; lasers of one tag
@@ -115,14 +115,14 @@ bool ParseCarmenLog(const std::string &name, const std::string &text,
 // and safety fields 0). Numbers are written so that they read back bit for
 // bit; the host field is "nohost", logger_timestamp = ipc_timestamp.
 // Through a temporary file and a rename (datasets/atomic_file.h).
-bool WriteCarmenLog(const std::string &path, const CarmenLog &log,
-                    std::string *error);
+bool WriteCarmenLog(const std::string& path, const CarmenLog& log,
+                    std::string* error);
 
 // bzip2-decompresses `compressed` (one or more concatenated streams).
 // Error: "NAME: problem".
-bool Bzip2Decompress(const std::string &name, const std::string &compressed,
-                     std::string *text, std::string *error,
-                     const ProgressCallback &progress = nullptr);
+bool Bzip2Decompress(const std::string& name, const std::string& compressed,
+                     std::string* text, std::string* error,
+                     const ProgressCallback& progress = nullptr);
 
 }  // namespace slam
 

@@ -12,10 +12,10 @@
 #include <Eigen/Core>
 
 #include "datasets/atomic_file.h"
-#include "factors/landmark_factors.h"
-#include "datasets/text_util.h"
 #include "datasets/isam_io.h"
+#include "datasets/text_util.h"
 #include "datasets/toro_io.h"
+#include "factors/landmark_factors.h"
 
 namespace slam {
 namespace {
@@ -58,7 +58,7 @@ void AppendValues(const double* v, int n, std::string* out) {
 
 // Per-file state beyond the builder: the declared parameter records by id.
 struct G2oState {
-  std::unordered_map<int64_t, Pose3> offsets;  // PARAMS_SE3OFFSET.
+  std::unordered_map<int64_t, Pose3> offsets;               // PARAMS_SE3OFFSET.
   std::unordered_map<int64_t, StereoCalibration> stereo;    // PARAMS_STEREO.
   std::unordered_map<int64_t, PinholeCalibration> pinhole;  // PARAMS_PINHOLE.
 };
@@ -141,11 +141,10 @@ bool ParseLandmarkLine(const std::vector<std::string_view>& tokens,
     return builder->AddLandmarkFactor(
         line, 2, i, j,
         [&](const Key& pose, const Key& point, Factor* f, std::string* p) {
-          return relative ? MakeRelativePoint2(pose, point,
-                                               Eigen::Vector2d(v[0], v[1]),
-                                               info, f, p)
-                          : MakeRangeBearing2(pose, point, v[0], v[1], info, f,
-                                              p);
+          return relative
+                     ? MakeRelativePoint2(
+                           pose, point, Eigen::Vector2d(v[0], v[1]), info, f, p)
+                     : MakeRangeBearing2(pose, point, v[0], v[1], info, f, p);
         },
         error);
   }
@@ -240,8 +239,7 @@ bool ParseLandmarkLine(const std::vector<std::string_view>& tokens,
         !ParseDoubles(tokens, 2, 8, v, problem)) {
       return false;
     }
-    const PinholeCalibration c{v[0], v[1], v[2], v[3],
-                               v[4], v[5], v[6], v[7]};
+    const PinholeCalibration c{v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7]};
     if (!(c.fx > 0.0 && c.fy > 0.0)) {
       *problem = "PARAMS_PINHOLE needs positive fx and fy";
       return false;
@@ -269,8 +267,7 @@ bool ParseLine(const std::vector<std::string_view>& tokens, int64_t line,
   }
   if (tag == "EDGE_SE2") {
     if (!CheckFieldCount(tokens, 11, problem) ||
-        !ParseId(tokens, 1, &i, problem) ||
-        !ParseId(tokens, 2, &j, problem) ||
+        !ParseId(tokens, 1, &i, problem) || !ParseId(tokens, 2, &j, problem) ||
         !ParseDoubles(tokens, 3, 9, v, problem)) {
       return false;
     }
@@ -298,20 +295,17 @@ bool ParseLine(const std::vector<std::string_view>& tokens, int64_t line,
   }
   if (tag == "EDGE_SE3:QUAT") {
     if (!CheckFieldCount(tokens, 30, problem) ||
-        !ParseId(tokens, 1, &i, problem) ||
-        !ParseId(tokens, 2, &j, problem) ||
+        !ParseId(tokens, 1, &i, problem) || !ParseId(tokens, 2, &j, problem) ||
         !ParseDoubles(tokens, 3, 28, v, problem)) {
       return false;
     }
-    return builder->AddBetweenSE3(line, i, j,
-                                  Eigen::Vector3d(v[0], v[1], v[2]),
+    return builder->AddBetweenSE3(line, i, j, Eigen::Vector3d(v[0], v[1], v[2]),
                                   Eigen::Vector4d(v[3], v[4], v[5], v[6]),
                                   FromUpperTriangle<6>(v + 7), error);
   }
   if (tag == "EDGE_SE3_PRIOR") {
     if (!CheckFieldCount(tokens, 30, problem) ||
-        !ParseId(tokens, 1, &i, problem) ||
-        !ParseId(tokens, 2, &j, problem) ||
+        !ParseId(tokens, 1, &i, problem) || !ParseId(tokens, 2, &j, problem) ||
         !ParseDoubles(tokens, 3, 28, v, problem)) {
       return false;
     }
@@ -351,9 +345,8 @@ Format FormatOfTag(std::string_view tag) {
   if (tag == "VERTEX_SE2" || tag == "EDGE_SE2" || tag == "VERTEX_SE3:QUAT" ||
       tag == "EDGE_SE3:QUAT" || tag == "EDGE_PRIOR_SE2" ||
       tag == "EDGE_SE2_PRIOR" || tag == "EDGE_SE3_PRIOR" ||
-      tag == "VERTEX_XY" || tag == "EDGE_SE2_XY" ||
-      tag == "VERTEX_TRACKXYZ" || tag == "EDGE_SE3_TRACKXYZ" ||
-      tag == "EDGE_SE2_RANGE_BEARING" ||
+      tag == "VERTEX_XY" || tag == "EDGE_SE2_XY" || tag == "VERTEX_TRACKXYZ" ||
+      tag == "EDGE_SE3_TRACKXYZ" || tag == "EDGE_SE2_RANGE_BEARING" ||
       tag == "PARAMS_STEREO" || tag == "EDGE_SE3_STEREO" ||
       tag == "PARAMS_PINHOLE" || tag == "EDGE_SE3_PROJECT") {
     return Format::kG2o;
@@ -495,7 +488,8 @@ void AppendLandmarkFactor(const Factor& f, ParamTable* params,
                          declarations);
       z_size = 2;
       break;
-    default: return;
+    default:
+      return;
   }
   for (const Key& key : f.keys) {
     out->push_back(' ');
@@ -512,8 +506,7 @@ void AppendLandmarkFactor(const Factor& f, ParamTable* params,
 
 }  // namespace
 
-bool WriteG2o(const std::string& path, const Graph& graph,
-              std::string* error) {
+bool WriteG2o(const std::string& path, const Graph& graph, std::string* error) {
   std::string local_error;
   if (error == nullptr) error = &local_error;
   text::PoseGraphContents contents;
@@ -565,11 +558,20 @@ bool WriteG2o(const std::string& path, const Graph& graph,
       continue;
     }
     switch (factor->type) {
-      case FactorType::kBetweenSE2: out += "EDGE_SE2"; break;
-      case FactorType::kBetweenSE3: out += "EDGE_SE3:QUAT"; break;
-      case FactorType::kPriorSE2: out += "EDGE_PRIOR_SE2"; break;
-      case FactorType::kPriorSE3: out += "EDGE_SE3_PRIOR"; break;
-      default: break;
+      case FactorType::kBetweenSE2:
+        out += "EDGE_SE2";
+        break;
+      case FactorType::kBetweenSE3:
+        out += "EDGE_SE3:QUAT";
+        break;
+      case FactorType::kPriorSE2:
+        out += "EDGE_PRIOR_SE2";
+        break;
+      case FactorType::kPriorSE3:
+        out += "EDGE_SE3_PRIOR";
+        break;
+      default:
+        break;
     }
     for (const Key& key : factor->keys) {
       out.push_back(' ');

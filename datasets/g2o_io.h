@@ -115,9 +115,9 @@ struct GraphReadOptions {
 };
 
 struct GraphReadReport {
-  int vertices = 0;            // VERTEX lines read.
-  int edges = 0;               // EDGE lines read (between and prior edges).
-  int fixed = 0;               // Nodes fixed by FIX lines.
+  int vertices = 0;  // VERTEX lines read.
+  int edges = 0;     // EDGE lines read (between and prior edges).
+  int fixed = 0;     // Nodes fixed by FIX lines.
   int repaired_information = 0;
   bool initialized_from_edges = false;  // Some nodes had no VERTEX line.
   int landmarks_initialized = 0;  // Points without vertex, set from edges.

@@ -348,7 +348,7 @@ void CountDimensions(SimulationResult* result) {
 
 const std::vector<std::string>& SimulationWorldTypes() {
   static const auto* types = new std::vector<std::string>{
-      "grid2d", "grid3d",      "sphere3d", "landmarks2d",
+      "grid2d",      "grid3d", "sphere3d",  "landmarks2d",
       "landmarks3d", "stereo", "monocular", "inertial"};
   return *types;
 }

@@ -228,9 +228,9 @@ class PoseGraphBuilder {
 // One record parser of a pose-graph reader: parses `tokens` (line `line`)
 // into the builder it captures. On failure it sets either *problem (turned
 // into "NAME:LINE: problem" by ParseRecords) or *error (already complete).
-using RecordParser = std::function<bool(
-    const std::vector<std::string_view>& tokens, int64_t line,
-    std::string* problem, std::string* error)>;
+using RecordParser =
+    std::function<bool(const std::vector<std::string_view>& tokens,
+                       int64_t line, std::string* problem, std::string* error)>;
 
 // Runs `parse` on every record of `text` in order; false at the first
 // failure, with *error set.

@@ -63,8 +63,7 @@ bool ParseLine(const std::vector<std::string_view>& tokens, int64_t line,
   }
   if (tag == "EDGE2" || tag == "EDGE") {
     if (!CheckFieldCount(tokens, 11, problem) ||
-        !ParseId(tokens, 1, &i, problem) ||
-        !ParseId(tokens, 2, &j, problem) ||
+        !ParseId(tokens, 1, &i, problem) || !ParseId(tokens, 2, &j, problem) ||
         !ParseDoubles(tokens, 3, 9, v, problem)) {
       return false;
     }
@@ -89,8 +88,7 @@ bool ParseLine(const std::vector<std::string_view>& tokens, int64_t line,
   }
   if (tag == "EDGE3") {
     if (!CheckFieldCount(tokens, 29, problem) ||
-        !ParseId(tokens, 1, &i, problem) ||
-        !ParseId(tokens, 2, &j, problem) ||
+        !ParseId(tokens, 1, &i, problem) || !ParseId(tokens, 2, &j, problem) ||
         !ParseDoubles(tokens, 3, 27, v, problem)) {
       return false;
     }
@@ -106,15 +104,13 @@ bool ParseLine(const std::vector<std::string_view>& tokens, int64_t line,
     }
     return builder->AddBetweenSE3(
         line, i, j, Eigen::Vector3d(v[0], v[1], v[2]),
-        Coefficients(QuaternionFromRpy(v[3], v[4], v[5])), information,
-        error);
+        Coefficients(QuaternionFromRpy(v[3], v[4], v[5])), information, error);
   }
   if (tag == "BR") {
     // BR pose landmark bearing range sigma_bearing sigma_range (GTSAM's
     // example.graph).
     if (!CheckFieldCount(tokens, 6, problem) ||
-        !ParseId(tokens, 1, &i, problem) ||
-        !ParseId(tokens, 2, &j, problem) ||
+        !ParseId(tokens, 1, &i, problem) || !ParseId(tokens, 2, &j, problem) ||
         !ParseDoubles(tokens, 3, 4, v, problem)) {
       return false;
     }
@@ -248,8 +244,8 @@ bool WriteToro(const std::string& path, const Graph& graph,
         }
       }
     } else {
-      for (double value : {z[0], z[1], z[2], m(0, 0), m(0, 1), m(1, 1),
-                           m(2, 2), m(0, 2), m(1, 2)}) {
+      for (double value : {z[0], z[1], z[2], m(0, 0), m(0, 1), m(1, 1), m(2, 2),
+                           m(0, 2), m(1, 2)}) {
         AppendValue(value, &out);
       }
     }

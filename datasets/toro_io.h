@@ -69,8 +69,7 @@ bool ReadToroFromText(const std::string& name, std::string_view text,
 
 // Writes the SE2/SE3 pose nodes and between factors (VERTEX2/EDGE2 or
 // VERTEX3/EDGE3) and FIX lines. Atomic like WriteG2o; numbers with %.17g.
-bool WriteToro(const std::string& path, const Graph& graph,
-               std::string* error);
+bool WriteToro(const std::string& path, const Graph& graph, std::string* error);
 
 }  // namespace slam
 

@@ -177,9 +177,9 @@ bool IsG2oKeyword(const std::string& token) {
 std::string ResolveEurocPath(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::is_directory(path, ec)) return path;
-  for (const char* sub : {"state_groundtruth_estimate0/data.csv",
-                          "mav0/state_groundtruth_estimate0/data.csv",
-                          "data.csv"}) {
+  for (const char* sub :
+       {"state_groundtruth_estimate0/data.csv",
+        "mav0/state_groundtruth_estimate0/data.csv", "data.csv"}) {
     const std::string candidate = path + "/" + sub;
     if (std::filesystem::is_regular_file(candidate, ec)) return candidate;
   }
@@ -190,20 +190,24 @@ std::string ResolveEurocPath(const std::string& path) {
 
 const char* TrajectoryFormatName(TrajectoryFormat format) {
   switch (format) {
-    case TrajectoryFormat::kAuto: return "auto";
-    case TrajectoryFormat::kTum: return "tum";
-    case TrajectoryFormat::kKitti: return "kitti";
-    case TrajectoryFormat::kEuroc: return "euroc";
-    case TrajectoryFormat::kG2o: return "g2o";
+    case TrajectoryFormat::kAuto:
+      return "auto";
+    case TrajectoryFormat::kTum:
+      return "tum";
+    case TrajectoryFormat::kKitti:
+      return "kitti";
+    case TrajectoryFormat::kEuroc:
+      return "euroc";
+    case TrajectoryFormat::kG2o:
+      return "g2o";
   }
   return "?";
 }
 
 bool ParseTrajectoryFormat(const std::string& name, TrajectoryFormat* format) {
-  for (TrajectoryFormat f :
-       {TrajectoryFormat::kAuto, TrajectoryFormat::kTum,
-        TrajectoryFormat::kKitti, TrajectoryFormat::kEuroc,
-        TrajectoryFormat::kG2o}) {
+  for (TrajectoryFormat f : {TrajectoryFormat::kAuto, TrajectoryFormat::kTum,
+                             TrajectoryFormat::kKitti, TrajectoryFormat::kEuroc,
+                             TrajectoryFormat::kG2o}) {
     if (name == TrajectoryFormatName(f)) {
       *format = f;
       return true;
@@ -249,8 +253,7 @@ bool ParseStampSeconds(const std::string& text, TimeNs* stamp) {
   }
   if (plain && i < text.size() && text[i] == '.') {
     ++i;
-    for (; i < text.size() &&
-           std::isdigit(static_cast<unsigned char>(text[i]));
+    for (; i < text.size() && std::isdigit(static_cast<unsigned char>(text[i]));
          ++i) {
       any_digit = true;
       if (frac_digits < 9) {
@@ -487,7 +490,8 @@ bool ReadEurocTrajectory(const std::string& path_in, Trajectory* trajectory,
       return true;  // A header of column names without '#'.
     }
     if (tokens.size() < 8) {
-      *error = where + "expected at least 8 comma-separated values "
+      *error = where +
+               "expected at least 8 comma-separated values "
                "(timestamp [ns], px, py, pz, qw, qx, qy, qz), found " +
                std::to_string(tokens.size());
       return false;
@@ -517,7 +521,8 @@ bool ReadEurocTrajectory(const std::string& path_in, Trajectory* trajectory,
   });
   if (!ok) return false;
   if (trajectory->empty()) {
-    *error = path + ": no poses (expected CSV lines 'timestamp,px,py,pz,qw,"
+    *error = path +
+             ": no poses (expected CSV lines 'timestamp,px,py,pz,qw,"
              "qx,qy,qz')";
     return false;
   }
@@ -536,7 +541,8 @@ bool ReadG2oPoses(const std::string& path, Trajectory* trajectory,
   GraphReadReport report;
   if (!ReadPoseGraph(path, options, &graph, &report, error)) return false;
   if (report.initialized_from_edges) {
-    *error = path + ": no VERTEX_SE2 or VERTEX_SE3:QUAT lines (a g2o file "
+    *error = path +
+             ": no VERTEX_SE2 or VERTEX_SE3:QUAT lines (a g2o file "
              "without vertices holds no poses: optimize it and evaluate the "
              "output)";
     return false;
@@ -611,14 +617,15 @@ bool WriteTrajectory(const std::string& path, const Trajectory& trajectory,
       }
       break;
     case TrajectoryFormat::kEuroc:
-      out = "#timestamp [ns],p_RS_R_x [m],p_RS_R_y [m],p_RS_R_z [m],"
-            "q_RS_w [],q_RS_x [],q_RS_y [],q_RS_z []\n";
+      out =
+          "#timestamp [ns],p_RS_R_x [m],p_RS_R_y [m],p_RS_R_z [m],"
+          "q_RS_w [],q_RS_x [],q_RS_y [],q_RS_z []\n";
       for (const StampedPose& p : trajectory) {
         const Eigen::Quaterniond& q = p.pose.q;
         std::snprintf(buf, sizeof(buf),
                       "%" PRId64 ",%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n",
-                      static_cast<int64_t>(p.stamp), p.pose.t.x(),
-                      p.pose.t.y(), p.pose.t.z(), q.w(), q.x(), q.y(), q.z());
+                      static_cast<int64_t>(p.stamp), p.pose.t.x(), p.pose.t.y(),
+                      p.pose.t.z(), q.w(), q.x(), q.y(), q.z());
         out += buf;
       }
       break;
@@ -629,8 +636,8 @@ bool WriteTrajectory(const std::string& path, const Trajectory& trajectory,
       }
       for (size_t i = 0; i < trajectory.size(); ++i) {
         const StampedPose& p = trajectory[i];
-        const int64_t id = whole ? p.stamp / kNanosecondsPerSecond
-                                 : static_cast<int64_t>(i);
+        const int64_t id =
+            whole ? p.stamp / kNanosecondsPerSecond : static_cast<int64_t>(i);
         const Eigen::Quaterniond& q = p.pose.q;
         std::snprintf(buf, sizeof(buf),
                       "VERTEX_SE3:QUAT %" PRId64

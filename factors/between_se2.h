@@ -26,8 +26,7 @@ class BetweenSE2Factor {
   template <typename T>
   bool operator()(const T* const xi, const T* const xj, T* residual) const {
     const Eigen::Matrix<T, 2, 1> d(xj[0] - xi[0], xj[1] - xi[1]);
-    const Eigen::Matrix<T, 2, 1> t_ij =
-        RotationMatrix2D(xi[2]).transpose() * d;
+    const Eigen::Matrix<T, 2, 1> t_ij = RotationMatrix2D(xi[2]).transpose() * d;
     const Eigen::Matrix<T, 2, 1> t_z = measurement_.head<2>().cast<T>();
     Eigen::Matrix<T, 3, 1> e;
     e.template head<2>() =

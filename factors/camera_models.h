@@ -34,7 +34,7 @@ struct StereoCalibration {
   double cx = 0.0;
   double cy = 0.0;
   double baseline = 1.0;  // Metres, right camera at +baseline along x.
-  bool operator==(const StereoCalibration &o) const {
+  bool operator==(const StereoCalibration& o) const {
     return fx == o.fx && fy == o.fy && cx == o.cx && cy == o.cy &&
            baseline == o.baseline;
   }
@@ -49,7 +49,7 @@ struct PinholeCalibration {
   double k2 = 0.0;
   double p1 = 0.0;  // Tangential.
   double p2 = 0.0;
-  bool operator==(const PinholeCalibration &o) const {
+  bool operator==(const PinholeCalibration& o) const {
     return fx == o.fx && fy == o.fy && cx == o.cx && cy == o.cy && k1 == o.k1 &&
            k2 == o.k2 && p1 == o.p1 && p2 == o.p2;
   }
@@ -61,8 +61,8 @@ struct PinholeCalibration {
 // World point -> camera frame, with the camera pose stored as a node
 // (t, q xyzw), camera-to-world.
 template <typename T>
-Eigen::Matrix<T, 3, 1> WorldToCamera(const T *const camera,
-                                     const T *const point) {
+Eigen::Matrix<T, 3, 1> WorldToCamera(const T* const camera,
+                                     const T* const point) {
   Eigen::Map<const Eigen::Matrix<T, 3, 1>> t(camera);
   Eigen::Map<const Eigen::Quaternion<T>> q(camera + 3);
   Eigen::Map<const Eigen::Matrix<T, 3, 1>> p(point);
@@ -71,8 +71,8 @@ Eigen::Matrix<T, 3, 1> WorldToCamera(const T *const camera,
 
 // Camera-frame point -> (uL, uR, v).
 template <typename T>
-bool ProjectStereo(const StereoCalibration &c, const Eigen::Matrix<T, 3, 1> &p,
-                   Eigen::Matrix<T, 3, 1> *uv) {
+bool ProjectStereo(const StereoCalibration& c, const Eigen::Matrix<T, 3, 1>& p,
+                   Eigen::Matrix<T, 3, 1>* uv) {
   if (!(p.z() > T(kMinDepth))) return false;
   const T inv_z = T(1.0) / p.z();
   (*uv)[0] = T(c.fx) * p.x() * inv_z + T(c.cx);
@@ -83,8 +83,8 @@ bool ProjectStereo(const StereoCalibration &c, const Eigen::Matrix<T, 3, 1> &p,
 
 // Normalized image coordinates -> distorted normalized coordinates.
 template <typename T>
-Eigen::Matrix<T, 2, 1> DistortRadTan(const PinholeCalibration &c,
-                                     const Eigen::Matrix<T, 2, 1> &n) {
+Eigen::Matrix<T, 2, 1> DistortRadTan(const PinholeCalibration& c,
+                                     const Eigen::Matrix<T, 2, 1>& n) {
   const T xn = n.x();
   const T yn = n.y();
   const T r2 = xn * xn + yn * yn;
@@ -97,9 +97,9 @@ Eigen::Matrix<T, 2, 1> DistortRadTan(const PinholeCalibration &c,
 
 // Camera-frame point -> (u, v) pixel.
 template <typename T>
-bool ProjectPinhole(const PinholeCalibration &c,
-                    const Eigen::Matrix<T, 3, 1> &p,
-                    Eigen::Matrix<T, 2, 1> *uv) {
+bool ProjectPinhole(const PinholeCalibration& c,
+                    const Eigen::Matrix<T, 3, 1>& p,
+                    Eigen::Matrix<T, 2, 1>* uv) {
   if (!(p.z() > T(kMinDepth))) return false;
   const T inv_z = T(1.0) / p.z();
   const Eigen::Matrix<T, 2, 1> d =
@@ -112,8 +112,8 @@ bool ProjectPinhole(const PinholeCalibration &c,
 // Pixel -> undistorted normalized coordinates (x/z, y/z), by fixed-point
 // iteration of the distortion model (exact for zero distortion); false if
 // the iteration does not settle (strong distortion far outside the image).
-inline bool UnprojectPinhole(const PinholeCalibration &c,
-                             const Eigen::Vector2d &uv, Eigen::Vector2d *n) {
+inline bool UnprojectPinhole(const PinholeCalibration& c,
+                             const Eigen::Vector2d& uv, Eigen::Vector2d* n) {
   const Eigen::Vector2d d((uv.x() - c.cx) / c.fx, (uv.y() - c.cy) / c.fy);
   Eigen::Vector2d x = d;
   if (!c.HasDistortion()) {

@@ -12,10 +12,10 @@
 namespace slam {
 namespace {
 
-bool CheckCommon(const Key &pose, NodeKind pose_kind, const Key &point,
-                 NodeKind point_kind, const Eigen::VectorXd &measurement,
-                 const Eigen::MatrixXd &information, Eigen::MatrixXd *sqrt_info,
-                 std::string *error) {
+bool CheckCommon(const Key& pose, NodeKind pose_kind, const Key& point,
+                 NodeKind point_kind, const Eigen::VectorXd& measurement,
+                 const Eigen::MatrixXd& information, Eigen::MatrixXd* sqrt_info,
+                 std::string* error) {
   if (pose.kind != pose_kind || point.kind != point_kind) {
     *error = std::string("factor needs a ") + NodeKindName(pose_kind) +
              " and a " + NodeKindName(point_kind) + " node, got " +
@@ -34,7 +34,7 @@ bool CheckCommon(const Key &pose, NodeKind pose_kind, const Key &point,
 }
 
 bool CheckCamera(double fx, double fy, double extra, bool extra_positive,
-                 std::string *error) {
+                 std::string* error) {
   if (!(fx > 0.0) || !(fy > 0.0) || !std::isfinite(fx) || !std::isfinite(fy)) {
     *error = "focal lengths must be positive";
     return false;
@@ -48,9 +48,9 @@ bool CheckCamera(double fx, double fy, double extra, bool extra_positive,
 
 }  // namespace
 
-bool MakeRangeBearing2(const Key &pose, const Key &point, double range,
-                       double bearing, const Eigen::Matrix2d &information,
-                       Factor *factor, std::string *error) {
+bool MakeRangeBearing2(const Key& pose, const Key& point, double range,
+                       double bearing, const Eigen::Matrix2d& information,
+                       Factor* factor, std::string* error) {
   Eigen::MatrixXd sqrt_info;
   const Eigen::Vector2d z(range, bearing);
   if (!CheckCommon(pose, NodeKind::kPose2, point, NodeKind::kPoint2, z,
@@ -65,10 +65,10 @@ bool MakeRangeBearing2(const Key &pose, const Key &point, double range,
   return true;
 }
 
-bool MakeRelativePoint2(const Key &pose, const Key &point,
-                        const Eigen::Vector2d &measurement,
-                        const Eigen::Matrix2d &information, Factor *factor,
-                        std::string *error) {
+bool MakeRelativePoint2(const Key& pose, const Key& point,
+                        const Eigen::Vector2d& measurement,
+                        const Eigen::Matrix2d& information, Factor* factor,
+                        std::string* error) {
   Eigen::MatrixXd sqrt_info;
   if (!CheckCommon(pose, NodeKind::kPose2, point, NodeKind::kPoint2,
                    measurement, information, &sqrt_info, error)) {
@@ -82,10 +82,10 @@ bool MakeRelativePoint2(const Key &pose, const Key &point,
   return true;
 }
 
-bool MakeRelativePoint3(const Key &pose, const Key &point,
-                        const Eigen::Vector3d &measurement, const Pose3 &offset,
-                        const Eigen::Matrix3d &information, Factor *factor,
-                        std::string *error) {
+bool MakeRelativePoint3(const Key& pose, const Key& point,
+                        const Eigen::Vector3d& measurement, const Pose3& offset,
+                        const Eigen::Matrix3d& information, Factor* factor,
+                        std::string* error) {
   Eigen::MatrixXd sqrt_info;
   Eigen::VectorXd z(10);
   z << measurement, offset.t, offset.q.coeffs();
@@ -102,11 +102,11 @@ bool MakeRelativePoint3(const Key &pose, const Key &point,
   return true;
 }
 
-bool MakeStereo(const Key &camera, const Key &point,
-                const StereoCalibration &calibration,
-                const Eigen::Vector3d &uL_uR_v,
-                const Eigen::Matrix3d &information, Factor *factor,
-                std::string *error) {
+bool MakeStereo(const Key& camera, const Key& point,
+                const StereoCalibration& calibration,
+                const Eigen::Vector3d& uL_uR_v,
+                const Eigen::Matrix3d& information, Factor* factor,
+                std::string* error) {
   Eigen::MatrixXd sqrt_info;
   Eigen::VectorXd z(8);
   z << uL_uR_v, calibration.fx, calibration.fy, calibration.cx, calibration.cy,
@@ -126,11 +126,11 @@ bool MakeStereo(const Key &camera, const Key &point,
   return true;
 }
 
-bool MakeReprojection(const Key &camera, const Key &point,
-                      const PinholeCalibration &calibration,
-                      const Eigen::Vector2d &uv,
-                      const Eigen::Matrix2d &information, Factor *factor,
-                      std::string *error) {
+bool MakeReprojection(const Key& camera, const Key& point,
+                      const PinholeCalibration& calibration,
+                      const Eigen::Vector2d& uv,
+                      const Eigen::Matrix2d& information, Factor* factor,
+                      std::string* error) {
   Eigen::MatrixXd sqrt_info;
   Eigen::VectorXd z(10);
   z << uv, calibration.fx, calibration.fy, calibration.cx, calibration.cy,
@@ -161,16 +161,16 @@ bool IsLandmarkFactor(FactorType type) {
   }
 }
 
-Pose3 SensorOffsetOf(const Factor &factor) {
-  const Eigen::VectorXd &m = factor.measurement;
+Pose3 SensorOffsetOf(const Factor& factor) {
+  const Eigen::VectorXd& m = factor.measurement;
   Pose3 offset;  // Not Pose3(t, q): it would renormalize (bits may move).
   offset.t = m.segment<3>(3);
   offset.q = Eigen::Quaterniond(m[9], m[6], m[7], m[8]);
   return offset;
 }
 
-StereoCalibration StereoCalibrationOf(const Factor &factor) {
-  const Eigen::VectorXd &m = factor.measurement;
+StereoCalibration StereoCalibrationOf(const Factor& factor) {
+  const Eigen::VectorXd& m = factor.measurement;
   StereoCalibration c;
   c.fx = m[3];
   c.fy = m[4];
@@ -180,8 +180,8 @@ StereoCalibration StereoCalibrationOf(const Factor &factor) {
   return c;
 }
 
-PinholeCalibration PinholeCalibrationOf(const Factor &factor) {
-  const Eigen::VectorXd &m = factor.measurement;
+PinholeCalibration PinholeCalibrationOf(const Factor& factor) {
+  const Eigen::VectorXd& m = factor.measurement;
   PinholeCalibration c;
   c.fx = m[2];
   c.fy = m[3];
@@ -194,8 +194,8 @@ PinholeCalibration PinholeCalibrationOf(const Factor &factor) {
   return c;
 }
 
-bool RemakeLandmarkFactor(const Factor &in, Factor *out, std::string *error) {
-  const Eigen::VectorXd &m = in.measurement;
+bool RemakeLandmarkFactor(const Factor& in, Factor* out, std::string* error) {
+  const Eigen::VectorXd& m = in.measurement;
   static const int kSizes[] = {2, 2, 10, 8, 10};
   if (!IsLandmarkFactor(in.type) || in.keys.size() != 2) {
     *error = "not a landmark factor";
@@ -239,15 +239,15 @@ bool RemakeLandmarkFactor(const Factor &in, Factor *out, std::string *error) {
   return ok;
 }
 
-PixelErrorStats CameraPixelErrors(const Graph &graph) {
+PixelErrorStats CameraPixelErrors(const Graph& graph) {
   PixelErrorStats stats;
   double sum = 0.0;
-  for (const auto &[id, f] : graph.factors()) {
+  for (const auto& [id, f] : graph.factors()) {
     if (f.type != FactorType::kStereo && f.type != FactorType::kReprojection) {
       continue;
     }
-    const double *camera = graph.FindNode(f.keys[0])->value.data();
-    const double *point = graph.FindNode(f.keys[1])->value.data();
+    const double* camera = graph.FindNode(f.keys[0])->value.data();
+    const double* point = graph.FindNode(f.keys[1])->value.data();
     const Eigen::Vector3d p = WorldToCamera(camera, point);
     ++stats.factors;
     if (f.type == FactorType::kStereo) {

@@ -31,41 +31,41 @@ namespace slam {
 // is not symmetric positive definite, a key has the wrong kind, or the
 // measurement / calibration is not finite (or, for cameras, a focal length or
 // the baseline is not positive).
-bool MakeRangeBearing2(const Key &pose, const Key &point, double range,
-                       double bearing, const Eigen::Matrix2d &information,
-                       Factor *factor, std::string *error);
-bool MakeRelativePoint2(const Key &pose, const Key &point,
-                        const Eigen::Vector2d &measurement,
-                        const Eigen::Matrix2d &information, Factor *factor,
-                        std::string *error);
-bool MakeRelativePoint3(const Key &pose, const Key &point,
-                        const Eigen::Vector3d &measurement, const Pose3 &offset,
-                        const Eigen::Matrix3d &information, Factor *factor,
-                        std::string *error);
-bool MakeStereo(const Key &camera, const Key &point,
-                const StereoCalibration &calibration,
-                const Eigen::Vector3d &uL_uR_v,
-                const Eigen::Matrix3d &information, Factor *factor,
-                std::string *error);
-bool MakeReprojection(const Key &camera, const Key &point,
-                      const PinholeCalibration &calibration,
-                      const Eigen::Vector2d &uv,
-                      const Eigen::Matrix2d &information, Factor *factor,
-                      std::string *error);
+bool MakeRangeBearing2(const Key& pose, const Key& point, double range,
+                       double bearing, const Eigen::Matrix2d& information,
+                       Factor* factor, std::string* error);
+bool MakeRelativePoint2(const Key& pose, const Key& point,
+                        const Eigen::Vector2d& measurement,
+                        const Eigen::Matrix2d& information, Factor* factor,
+                        std::string* error);
+bool MakeRelativePoint3(const Key& pose, const Key& point,
+                        const Eigen::Vector3d& measurement, const Pose3& offset,
+                        const Eigen::Matrix3d& information, Factor* factor,
+                        std::string* error);
+bool MakeStereo(const Key& camera, const Key& point,
+                const StereoCalibration& calibration,
+                const Eigen::Vector3d& uL_uR_v,
+                const Eigen::Matrix3d& information, Factor* factor,
+                std::string* error);
+bool MakeReprojection(const Key& camera, const Key& point,
+                      const PinholeCalibration& calibration,
+                      const Eigen::Vector2d& uv,
+                      const Eigen::Matrix2d& information, Factor* factor,
+                      std::string* error);
 
 // Rebuilds a factor of one of the five kinds above from its type, keys,
 // measurement and information (e.g. after copying between graphs).
-bool RemakeLandmarkFactor(const Factor &in, Factor *out, std::string *error);
+bool RemakeLandmarkFactor(const Factor& in, Factor* out, std::string* error);
 
 // True for the five factor types above.
 bool IsLandmarkFactor(FactorType type);
 
 // Parts of a factor's measurement (layouts above; the factor must be of the
 // matching type).
-Pose3 SensorOffsetOf(const Factor &factor);  // kRelativePoint3.
-StereoCalibration StereoCalibrationOf(const Factor &factor);  // kStereo.
+Pose3 SensorOffsetOf(const Factor& factor);  // kRelativePoint3.
+StereoCalibration StereoCalibrationOf(const Factor& factor);  // kStereo.
 PinholeCalibration PinholeCalibrationOf(
-    const Factor &factor);  // kReprojection.
+    const Factor& factor);  // kReprojection.
 
 // Raw (not whitened) pixel errors of the camera factors (kStereo: uL, uR, v;
 // kReprojection: u, v) at the graph's current values.
@@ -75,7 +75,7 @@ struct PixelErrorStats {
   int behind = 0;       // Factors whose point is behind the camera (left out).
   double rms = 0.0;     // sqrt(sum e^2 / coordinates), pixels.
 };
-PixelErrorStats CameraPixelErrors(const Graph &graph);
+PixelErrorStats CameraPixelErrors(const Graph& graph);
 
 }  // namespace slam
 

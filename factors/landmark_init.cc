@@ -11,8 +11,8 @@ namespace slam {
 namespace {
 
 // Ray of a monocular observation in the world frame.
-bool ObservationRay(const Graph &graph, const Factor &f,
-                    Eigen::Vector3d *origin, Eigen::Vector3d *direction) {
+bool ObservationRay(const Graph& graph, const Factor& f,
+                    Eigen::Vector3d* origin, Eigen::Vector3d* direction) {
   const Pose3 camera = NodePose3(*graph.FindNode(f.keys[0]));
   Eigen::Vector2d n;
   if (!UnprojectPinhole(PinholeCalibrationOf(f), f.measurement.head<2>(), &n)) {
@@ -24,13 +24,13 @@ bool ObservationRay(const Graph &graph, const Factor &f,
 }
 
 // Sets *value from the observations of one point; false if none could.
-bool PlacePoint(const Graph &graph, const std::vector<const Factor *> &obs,
-                std::vector<double> *value, bool *weak) {
+bool PlacePoint(const Graph& graph, const std::vector<const Factor*>& obs,
+                std::vector<double>* value, bool* weak) {
   *weak = false;
   std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> rays;
-  for (const Factor *f : obs) {
-    const Node &pose = *graph.FindNode(f->keys[0]);
-    const Eigen::VectorXd &m = f->measurement;
+  for (const Factor* f : obs) {
+    const Node& pose = *graph.FindNode(f->keys[0]);
+    const Eigen::VectorXd& m = f->measurement;
     switch (f->type) {
       case FactorType::kRangeBearing2: {
         const Eigen::Vector2d p =
@@ -70,12 +70,12 @@ bool PlacePoint(const Graph &graph, const std::vector<const Factor *> &obs,
     }
   }
   if (rays.empty()) return false;
-  const auto &[o1, d1] = rays.front();
+  const auto& [o1, d1] = rays.front();
   double best_cos = 1.0;
   Eigen::Vector3d best;
   bool found = false;
   for (size_t k = 1; k < rays.size(); ++k) {
-    const auto &[o2, d2] = rays[k];
+    const auto& [o2, d2] = rays[k];
     const double c = d1.normalized().dot(d2.normalized());
     Eigen::Vector3d p;
     if (c < best_cos && TriangulateMidpoint(o1, d1, o2, d2, &p)) {
@@ -94,19 +94,19 @@ bool PlacePoint(const Graph &graph, const std::vector<const Factor *> &obs,
 
 }  // namespace
 
-LandmarkInitReport InitializeLandmarks(Graph *graph,
-                                       const std::set<Key> *only) {
+LandmarkInitReport InitializeLandmarks(Graph* graph,
+                                       const std::set<Key>* only) {
   LandmarkInitReport report;
-  std::map<Key, std::vector<const Factor *>> observations;
-  for (const auto &[id, f] : graph->factors()) {
+  std::map<Key, std::vector<const Factor*>> observations;
+  for (const auto& [id, f] : graph->factors()) {
     if (!IsLandmarkFactor(f.type) || f.keys.size() != 2) continue;
-    const Key &point = f.keys[1];
+    const Key& point = f.keys[1];
     if (only != nullptr && only->count(point) == 0) continue;
     observations[point].push_back(&f);
   }
   std::vector<double> value;
-  for (const auto &[key, obs] : observations) {
-    Node *node = graph->FindNode(key);
+  for (const auto& [key, obs] : observations) {
+    Node* node = graph->FindNode(key);
     bool weak = false;
     if (node == nullptr || !PlacePoint(*graph, obs, &value, &weak) ||
         value.size() != node->value.size()) {

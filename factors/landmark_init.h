@@ -27,8 +27,8 @@ struct LandmarkInitReport {
 };
 
 // Initializes the point nodes in `only` (all kPoint2/kPoint3 nodes if null).
-LandmarkInitReport InitializeLandmarks(Graph *graph,
-                                       const std::set<Key> *only = nullptr);
+LandmarkInitReport InitializeLandmarks(Graph* graph,
+                                       const std::set<Key>* only = nullptr);
 
 }  // namespace slam
 

@@ -10,9 +10,9 @@ namespace {
 using RowMajorMatrix =
     Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
-const ceres::Manifold *KindManifold(NodeKind kind) {
-  static const SE2Manifold *se2 = new SE2Manifold;
-  static const SE3Manifold *se3 = new SE3Manifold;
+const ceres::Manifold* KindManifold(NodeKind kind) {
+  static const SE2Manifold* se2 = new SE2Manifold;
+  static const SE3Manifold* se3 = new SE3Manifold;
   switch (kind) {
     case NodeKind::kPose2:
       return se2;
@@ -25,7 +25,7 @@ const ceres::Manifold *KindManifold(NodeKind kind) {
 
 }  // namespace
 
-MarginalizationPriorCost::MarginalizationPriorCost(const LinearPrior &prior)
+MarginalizationPriorCost::MarginalizationPriorCost(const LinearPrior& prior)
     : prior_(prior) {
   set_num_residuals(static_cast<int>(prior_.j0.rows()));
   int offset = 0;
@@ -38,14 +38,14 @@ MarginalizationPriorCost::MarginalizationPriorCost(const LinearPrior &prior)
   }
 }
 
-bool MarginalizationPriorCost::Evaluate(double const *const *parameters,
-                                        double *residuals,
-                                        double **jacobians) const {
+bool MarginalizationPriorCost::Evaluate(double const* const* parameters,
+                                        double* residuals,
+                                        double** jacobians) const {
   const int rows = num_residuals();
   Eigen::VectorXd delta(prior_.j0.cols());
   for (size_t k = 0; k < prior_.keys.size(); ++k) {
     const int t = prior_.tangent_sizes[k];
-    const double *x0 = prior_.x0[k].data();
+    const double* x0 = prior_.x0[k].data();
     if (manifolds_[k] == nullptr) {
       for (int i = 0; i < t; ++i) {
         delta[offsets_[k] + i] = parameters[k][i] - x0[i];
@@ -64,7 +64,7 @@ bool MarginalizationPriorCost::Evaluate(double const *const *parameters,
     const int ambient = static_cast<int>(prior_.x0[k].size());
     Eigen::Map<RowMajorMatrix> jac(jacobians[k], rows, ambient);
     const auto j0_k = prior_.j0.middleCols(offsets_[k], t);
-    const ceres::Manifold *manifold = manifolds_[k];
+    const ceres::Manifold* manifold = manifolds_[k];
     if (manifold == nullptr) {
       jac = j0_k;
       continue;
@@ -98,8 +98,8 @@ bool MarginalizationPriorCost::Evaluate(double const *const *parameters,
   return true;
 }
 
-bool MakeMarginalizationPrior(const LinearPrior &prior, Factor *factor,
-                              std::string *error) {
+bool MakeMarginalizationPrior(const LinearPrior& prior, Factor* factor,
+                              std::string* error) {
   if (prior.keys.empty() || prior.j0.rows() == 0) {
     *error = "marginalization prior: no rows or no states";
     return false;

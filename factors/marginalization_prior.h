@@ -35,28 +35,28 @@ class MarginalizationPriorCost : public ceres::CostFunction {
  public:
   // The manifolds are the node kinds' (nullptr: Euclidean); this object
   // keeps its own instances.
-  explicit MarginalizationPriorCost(const LinearPrior &prior);
+  explicit MarginalizationPriorCost(const LinearPrior& prior);
 
-  bool Evaluate(double const *const *parameters, double *residuals,
-                double **jacobians) const override;
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override;
 
-  const LinearPrior &prior() const { return prior_; }
+  const LinearPrior& prior() const { return prior_; }
 
-  static ceres::CostFunction *Create(const LinearPrior &prior) {
+  static ceres::CostFunction* Create(const LinearPrior& prior) {
     return new MarginalizationPriorCost(prior);
   }
 
  private:
   LinearPrior prior_;
-  std::vector<const ceres::Manifold *> manifolds_;
+  std::vector<const ceres::Manifold*> manifolds_;
   std::vector<int> offsets_;  // Tangent column offset of each block in J0.
 };
 
 // PriorFactorBuilder for MarginalizeNodes / the sliding window: a Factor of
 // type kMarginalizationPrior over prior.keys (measurement: r0; information:
 // J0^T J0, the marginal information over the stacked tangent).
-bool MakeMarginalizationPrior(const LinearPrior &prior, Factor *factor,
-                              std::string *error);
+bool MakeMarginalizationPrior(const LinearPrior& prior, Factor* factor,
+                              std::string* error);
 
 }  // namespace slam
 

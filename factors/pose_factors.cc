@@ -70,8 +70,8 @@ bool MakeBetweenSE3(const Key& i, const Key& j, const Pose3& z_ij,
 }
 
 bool MakePriorSE3(const Key& i, const Pose3& z,
-                  const Eigen::Matrix<double, 6, 6>& information, Factor* factor,
-                  std::string* error) {
+                  const Eigen::Matrix<double, 6, 6>& information,
+                  Factor* factor, std::string* error) {
   Eigen::MatrixXd sqrt_info;
   if (!Whitening(information, &sqrt_info, error)) return false;
   factor->type = FactorType::kPriorSE3;

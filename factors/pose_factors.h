@@ -21,14 +21,15 @@ namespace slam {
 bool MakeBetweenSE2(const Key& i, const Key& j, const Pose2& z_ij,
                     const Eigen::Matrix3d& information, Factor* factor,
                     std::string* error);
-bool MakePriorSE2(const Key& i, const Pose2& z, const Eigen::Matrix3d& information,
-                  Factor* factor, std::string* error);
+bool MakePriorSE2(const Key& i, const Pose2& z,
+                  const Eigen::Matrix3d& information, Factor* factor,
+                  std::string* error);
 bool MakeBetweenSE3(const Key& i, const Key& j, const Pose3& z_ij,
                     const Eigen::Matrix<double, 6, 6>& information,
                     Factor* factor, std::string* error);
 bool MakePriorSE3(const Key& i, const Pose3& z,
-                  const Eigen::Matrix<double, 6, 6>& information, Factor* factor,
-                  std::string* error);
+                  const Eigen::Matrix<double, 6, 6>& information,
+                  Factor* factor, std::string* error);
 
 }  // namespace slam
 

@@ -27,8 +27,7 @@ class PriorSE2Factor {
     const Eigen::Matrix<T, 2, 1> d(x[0] - T(measurement_[0]),
                                    x[1] - T(measurement_[1]));
     Eigen::Matrix<T, 3, 1> e;
-    e.template head<2>() =
-        RotationMatrix2D(T(measurement_[2])).transpose() * d;
+    e.template head<2>() = RotationMatrix2D(T(measurement_[2])).transpose() * d;
     e[2] = NormalizeAngle(x[2] - T(measurement_[2]));
     Eigen::Map<Eigen::Matrix<T, 3, 1>> r(residual);
     r = sqrt_information_.cast<T>() * e;

@@ -25,11 +25,11 @@ namespace slam {
 class RangeBearing2Factor {
  public:
   RangeBearing2Factor(double range, double bearing,
-                      const Eigen::Matrix2d &sqrt_information)
+                      const Eigen::Matrix2d& sqrt_information)
       : range_(range), bearing_(bearing), sqrt_information_(sqrt_information) {}
 
   template <typename T>
-  bool operator()(const T *const x, const T *const l, T *residual) const {
+  bool operator()(const T* const x, const T* const l, T* residual) const {
     using std::atan2;
     using std::sqrt;
     const Eigen::Matrix<T, 2, 1> d =
@@ -45,8 +45,8 @@ class RangeBearing2Factor {
     return true;
   }
 
-  static ceres::CostFunction *Create(double range, double bearing,
-                                     const Eigen::Matrix2d &sqrt_information) {
+  static ceres::CostFunction* Create(double range, double bearing,
+                                     const Eigen::Matrix2d& sqrt_information) {
     return new ceres::AutoDiffCostFunction<RangeBearing2Factor, 2, 3, 2>(
         new RangeBearing2Factor(range, bearing, sqrt_information));
   }

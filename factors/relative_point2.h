@@ -19,12 +19,12 @@ namespace slam {
 
 class RelativePoint2Factor {
  public:
-  RelativePoint2Factor(const Eigen::Vector2d &measurement,
-                       const Eigen::Matrix2d &sqrt_information)
+  RelativePoint2Factor(const Eigen::Vector2d& measurement,
+                       const Eigen::Matrix2d& sqrt_information)
       : measurement_(measurement), sqrt_information_(sqrt_information) {}
 
   template <typename T>
-  bool operator()(const T *const x, const T *const l, T *residual) const {
+  bool operator()(const T* const x, const T* const l, T* residual) const {
     const Eigen::Matrix<T, 2, 1> e =
         RotationMatrix2D(x[2]).transpose() *
             Eigen::Matrix<T, 2, 1>(l[0] - x[0], l[1] - x[1]) -
@@ -34,8 +34,8 @@ class RelativePoint2Factor {
     return true;
   }
 
-  static ceres::CostFunction *Create(const Eigen::Vector2d &measurement,
-                                     const Eigen::Matrix2d &sqrt_information) {
+  static ceres::CostFunction* Create(const Eigen::Vector2d& measurement,
+                                     const Eigen::Matrix2d& sqrt_information) {
     return new ceres::AutoDiffCostFunction<RelativePoint2Factor, 2, 3, 2>(
         new RelativePoint2Factor(measurement, sqrt_information));
   }

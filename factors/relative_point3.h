@@ -22,15 +22,15 @@ namespace slam {
 
 class RelativePoint3Factor {
  public:
-  RelativePoint3Factor(const Eigen::Vector3d &measurement, const Pose3 &offset,
-                       const Eigen::Matrix3d &sqrt_information)
+  RelativePoint3Factor(const Eigen::Vector3d& measurement, const Pose3& offset,
+                       const Eigen::Matrix3d& sqrt_information)
       : measurement_(measurement),
         offset_t_(offset.t),
         offset_q_inv_(offset.q.conjugate()),
         sqrt_information_(sqrt_information) {}
 
   template <typename T>
-  bool operator()(const T *const x, const T *const l, T *residual) const {
+  bool operator()(const T* const x, const T* const l, T* residual) const {
     Eigen::Map<const Eigen::Matrix<T, 3, 1>> t(x);
     Eigen::Map<const Eigen::Quaternion<T>> q(x + 3);
     Eigen::Map<const Eigen::Matrix<T, 3, 1>> p(l);
@@ -43,9 +43,9 @@ class RelativePoint3Factor {
     return true;
   }
 
-  static ceres::CostFunction *Create(const Eigen::Vector3d &measurement,
-                                     const Pose3 &offset,
-                                     const Eigen::Matrix3d &sqrt_information) {
+  static ceres::CostFunction* Create(const Eigen::Vector3d& measurement,
+                                     const Pose3& offset,
+                                     const Eigen::Matrix3d& sqrt_information) {
     return new ceres::AutoDiffCostFunction<RelativePoint3Factor, 3, 7, 3>(
         new RelativePoint3Factor(measurement, offset, sqrt_information));
   }

@@ -22,16 +22,16 @@ namespace slam {
 
 class ReprojectionFactor {
  public:
-  ReprojectionFactor(const PinholeCalibration &calibration,
-                     const Eigen::Vector2d &measurement,
-                     const Eigen::Matrix2d &sqrt_information)
+  ReprojectionFactor(const PinholeCalibration& calibration,
+                     const Eigen::Vector2d& measurement,
+                     const Eigen::Matrix2d& sqrt_information)
       : calibration_(calibration),
         measurement_(measurement),
         sqrt_information_(sqrt_information) {}
 
   template <typename T>
-  bool operator()(const T *const camera, const T *const point,
-                  T *residual) const {
+  bool operator()(const T* const camera, const T* const point,
+                  T* residual) const {
     Eigen::Matrix<T, 2, 1> uv;
     if (!ProjectPinhole(calibration_, WorldToCamera(camera, point), &uv)) {
       return false;
@@ -41,9 +41,9 @@ class ReprojectionFactor {
     return true;
   }
 
-  static ceres::CostFunction *Create(const PinholeCalibration &calibration,
-                                     const Eigen::Vector2d &measurement,
-                                     const Eigen::Matrix2d &sqrt_information) {
+  static ceres::CostFunction* Create(const PinholeCalibration& calibration,
+                                     const Eigen::Vector2d& measurement,
+                                     const Eigen::Matrix2d& sqrt_information) {
     return new ceres::AutoDiffCostFunction<ReprojectionFactor, 2, 7, 3>(
         new ReprojectionFactor(calibration, measurement, sqrt_information));
   }

@@ -22,16 +22,16 @@ namespace slam {
 
 class StereoProjectionFactor {
  public:
-  StereoProjectionFactor(const StereoCalibration &calibration,
-                         const Eigen::Vector3d &measurement,
-                         const Eigen::Matrix3d &sqrt_information)
+  StereoProjectionFactor(const StereoCalibration& calibration,
+                         const Eigen::Vector3d& measurement,
+                         const Eigen::Matrix3d& sqrt_information)
       : calibration_(calibration),
         measurement_(measurement),
         sqrt_information_(sqrt_information) {}
 
   template <typename T>
-  bool operator()(const T *const camera, const T *const point,
-                  T *residual) const {
+  bool operator()(const T* const camera, const T* const point,
+                  T* residual) const {
     Eigen::Matrix<T, 3, 1> uv;
     if (!ProjectStereo(calibration_, WorldToCamera(camera, point), &uv)) {
       return false;
@@ -41,9 +41,9 @@ class StereoProjectionFactor {
     return true;
   }
 
-  static ceres::CostFunction *Create(const StereoCalibration &calibration,
-                                     const Eigen::Vector3d &measurement,
-                                     const Eigen::Matrix3d &sqrt_information) {
+  static ceres::CostFunction* Create(const StereoCalibration& calibration,
+                                     const Eigen::Vector3d& measurement,
+                                     const Eigen::Matrix3d& sqrt_information) {
     return new ceres::AutoDiffCostFunction<StereoProjectionFactor, 3, 7, 3>(
         new StereoProjectionFactor(calibration, measurement, sqrt_information));
   }

@@ -31,23 +31,23 @@ CarmenReadOptions AllLasers() {
   return options;
 }
 
-std::string Bzip2(const std::string &text) {
+std::string Bzip2(const std::string& text) {
   std::vector<char> out(text.size() + text.size() / 50 + 1024);
   unsigned int out_size = static_cast<unsigned int>(out.size());
   const int status = BZ2_bzBuffToBuffCompress(
-      out.data(), &out_size, const_cast<char *>(text.data()),
+      out.data(), &out_size, const_cast<char*>(text.data()),
       static_cast<unsigned int>(text.size()), 9, 0, 0);
   EXPECT_EQ(status, BZ_OK);
   return std::string(out.data(), out_size);
 }
 
-void ExpectPose(const Pose2 &p, double x, double y, double theta) {
+void ExpectPose(const Pose2& p, double x, double y, double theta) {
   EXPECT_NEAR(p.t.x(), x, 1e-12);
   EXPECT_NEAR(p.t.y(), y, 1e-12);
   EXPECT_NEAR(p.theta, theta, 1e-12);
 }
 
-void ExpectSameLog(const CarmenLog &a, const CarmenLog &b) {
+void ExpectSameLog(const CarmenLog& a, const CarmenLog& b) {
   ASSERT_EQ(a.odometry.size(), b.odometry.size());
   ASSERT_EQ(a.scans.size(), b.scans.size());
   EXPECT_EQ(a.params, b.params);
@@ -59,8 +59,8 @@ void ExpectSameLog(const CarmenLog &a, const CarmenLog &b) {
     EXPECT_EQ(a.odometry[i].rv, b.odometry[i].rv);
   }
   for (size_t i = 0; i < a.scans.size(); ++i) {
-    const LaserScan &s = a.scans[i];
-    const LaserScan &t = b.scans[i];
+    const LaserScan& s = a.scans[i];
+    const LaserScan& t = b.scans[i];
     EXPECT_EQ(s.tag, t.tag);
     EXPECT_EQ(s.stamp, t.stamp);
     EXPECT_EQ(s.ranges, t.ranges);
@@ -95,7 +95,7 @@ TEST(CarmenIo, ReadsHandmadeLog) {
   EXPECT_DOUBLE_EQ(log.odometry[1].tv, 0.3);
   EXPECT_DOUBLE_EQ(log.odometry[1].rv, 0.05);
 
-  const LaserScan &front = log.scans[0];
+  const LaserScan& front = log.scans[0];
   EXPECT_EQ(front.tag, "FLASER");
   EXPECT_EQ(front.line, 8);
   EXPECT_EQ(front.stamp, 10100000000);
@@ -108,13 +108,13 @@ TEST(CarmenIo, ReadsHandmadeLog) {
   EXPECT_DOUBLE_EQ(front.angle_increment, M_PI / 4);
   EXPECT_DOUBLE_EQ(front.max_range, 8.5);  // PARAM robot_front_laser_max.
 
-  const LaserScan &rear = log.scans[1];
+  const LaserScan& rear = log.scans[1];
   EXPECT_EQ(rear.tag, "RLASER");
   ExpectPose(rear.laser_offset, -0.1, 0.0, -M_PI);  // Looks backwards.
   ExpectPose(rear.odom, 0.5, 0.1, 0.1);
   EXPECT_DOUBLE_EQ(rear.max_range, CarmenReadOptions().default_max_range);
 
-  const LaserScan &robot = log.scans[2];
+  const LaserScan& robot = log.scans[2];
   EXPECT_EQ(robot.tag, "ROBOTLASER1");
   EXPECT_EQ(robot.ranges.size(), 5u);
   EXPECT_FLOAT_EQ(robot.ranges[4], 5.5f);
@@ -178,7 +178,7 @@ TEST(CarmenIo, FlaserGeometry) {
        0.5 * kDeg},
       {"PARAM laser_front_laser_fov 100 nohost 0\n", 101, -50 * kDeg, 1 * kDeg},
   };
-  for (const Case &c : cases) {
+  for (const Case& c : cases) {
     CarmenLog log;
     std::string error;
     ASSERT_TRUE(ParseCarmenLog("mem", c.params + flaser(c.n),
@@ -284,7 +284,7 @@ TEST(CarmenIo, BadInput) {
        "mem:1: PARAM laser_front_laser_resolution: expected a positive"},
       {"PARAM x\n", "mem:1: PARAM needs at least 2 field(s)"},
   };
-  for (const Case &c : cases) {
+  for (const Case& c : cases) {
     CarmenLog log;
     std::string error;
     EXPECT_FALSE(ParseCarmenLog("mem", c.text, AllLasers(), &log, &error))
@@ -318,7 +318,7 @@ TEST(CarmenIo, AcesLog) {
   EXPECT_EQ(log.params.size(), 4u);
   EXPECT_TRUE(log.warnings.empty());
   for (size_t i = 0; i < log.scans.size(); ++i) {
-    const LaserScan &s = log.scans[i];
+    const LaserScan& s = log.scans[i];
     ASSERT_EQ(s.tag, "FLASER");
     ASSERT_EQ(s.ranges.size(), 180u);
     ASSERT_DOUBLE_EQ(s.angle_increment, kDeg);

@@ -29,8 +29,10 @@ using ::slam::testing::ReadText;
 cv::Mat DecodePng(const std::string& png) {
   auto u32 = [&](size_t at) {
     return (static_cast<uint32_t>(static_cast<unsigned char>(png[at])) << 24) |
-           (static_cast<uint32_t>(static_cast<unsigned char>(png[at + 1])) << 16) |
-           (static_cast<uint32_t>(static_cast<unsigned char>(png[at + 2])) << 8) |
+           (static_cast<uint32_t>(static_cast<unsigned char>(png[at + 1]))
+            << 16) |
+           (static_cast<uint32_t>(static_cast<unsigned char>(png[at + 2]))
+            << 8) |
            static_cast<uint32_t>(static_cast<unsigned char>(png[at + 3]));
   };
   if (png.size() < 8 || png.compare(0, 8, "\x89PNG\r\n\x1a\n") != 0) return {};
@@ -41,8 +43,8 @@ cv::Mat DecodePng(const std::string& png) {
     const uint32_t len = u32(pos);
     if (pos + 12 + len > png.size()) return {};
     const std::string type = png.substr(pos + 4, 4);
-    const uint32_t crc = static_cast<uint32_t>(
-        crc32(0L, reinterpret_cast<const Bytef*>(png.data() + pos + 4), len + 4));
+    const uint32_t crc = static_cast<uint32_t>(crc32(
+        0L, reinterpret_cast<const Bytef*>(png.data() + pos + 4), len + 4));
     if (crc != u32(pos + 8 + len)) return {};
     if (type == "IHDR") {
       width = static_cast<int>(u32(pos + 8));
@@ -69,8 +71,8 @@ cv::Mat DecodePng(const std::string& png) {
     const char* row = raw.data() + static_cast<size_t>(y) * (3 * width + 1);
     if (row[0] != 0) return {};
     for (int x = 0; x < width; ++x) {
-      img.at<cv::Vec3b>(y, x) = cv::Vec3b(row[1 + 3 * x + 2], row[1 + 3 * x + 1],
-                                          row[1 + 3 * x]);
+      img.at<cv::Vec3b>(y, x) =
+          cv::Vec3b(row[1 + 3 * x + 2], row[1 + 3 * x + 1], row[1 + 3 * x]);
     }
   }
   return img;
@@ -109,14 +111,16 @@ Trajectory Synthetic(bool estimate) {
     const double s = 0.03 * i;
     StampedPose p;
     p.stamp = 1700000000 * kNanosecondsPerSecond + i * 50000000ll;
-    Eigen::Vector3d x(8.0 * std::cos(s), 5.0 * std::sin(s), 0.3 * std::sin(3 * s));
+    Eigen::Vector3d x(8.0 * std::cos(s), 5.0 * std::sin(s),
+                      0.3 * std::sin(3 * s));
     Eigen::Quaterniond q(Eigen::AngleAxisd(s, Eigen::Vector3d::UnitZ()));
     if (estimate) {
       // A drift, then a rigid offset, and stamps 3 ms late.
       x += Eigen::Vector3d(0.002 * i, 0.05 * std::sin(0.2 * i), 0.0);
       q = q * Eigen::Quaterniond(Eigen::AngleAxisd(0.01 * std::sin(0.1 * i),
                                                    Eigen::Vector3d::UnitX()));
-      const Eigen::Quaterniond r(Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitZ()));
+      const Eigen::Quaterniond r(
+          Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitZ()));
       x = r * x + Eigen::Vector3d(2.0, -1.0, 0.5);
       q = r * q;
       p.stamp += 3000000;
@@ -134,10 +138,12 @@ class EvalCommandTest : public ::testing::Test {
     ref_ = dir_ + "/ref.tum";
     est_ = dir_ + "/est.tum";
     std::string error;
-    ASSERT_TRUE(WriteTrajectory(ref_, Synthetic(false), TrajectoryFormat::kTum,
-                                &error)) << error;
-    ASSERT_TRUE(WriteTrajectory(est_, Synthetic(true), TrajectoryFormat::kTum,
-                                &error)) << error;
+    ASSERT_TRUE(
+        WriteTrajectory(ref_, Synthetic(false), TrajectoryFormat::kTum, &error))
+        << error;
+    ASSERT_TRUE(
+        WriteTrajectory(est_, Synthetic(true), TrajectoryFormat::kTum, &error))
+        << error;
   }
   std::string dir_, ref_, est_;
 };
@@ -153,7 +159,8 @@ TEST_F(EvalCommandTest, TableReportAndPlotsAgreeWithTheLibrary) {
             0)
       << ReadText(log);
   const std::string out = ReadText(log);
-  EXPECT_NE(out.find("400 of max. 400 possible pairs"), std::string::npos) << out;
+  EXPECT_NE(out.find("400 of max. 400 possible pairs"), std::string::npos)
+      << out;
   EXPECT_NE(out.find("APE translation [m]"), std::string::npos);
   EXPECT_NE(out.find("SE(3) Umeyama"), std::string::npos);
 
@@ -162,13 +169,15 @@ TEST_F(EvalCommandTest, TableReportAndPlotsAgreeWithTheLibrary) {
   s.rpe.unit = DeltaUnit::kMeters;
   EvalResult r;
   std::string error;
-  ASSERT_TRUE(EvaluateTrajectories(Synthetic(false), Synthetic(true), s, &r,
-                                   &error)) << error;
+  ASSERT_TRUE(
+      EvaluateTrajectories(Synthetic(false), Synthetic(true), s, &r, &error))
+      << error;
   const std::string json = ReadText(report);
   EXPECT_EQ(JsonNumberIn(json, "", "matched_pairs"), 400.0) << json;
   for (const char* object :
        {"ape_translation", "ape_rotation", "rpe_translation", "rpe_rotation"}) {
-    for (const char* key : {"rmse", "mean", "median", "std", "min", "max", "sse"}) {
+    for (const char* key :
+         {"rmse", "mean", "median", "std", "min", "max", "sse"}) {
       EXPECT_TRUE(std::isfinite(JsonNumberIn(json, object, key)))
           << object << " " << key;
     }
@@ -190,7 +199,8 @@ TEST_F(EvalCommandTest, TableReportAndPlotsAgreeWithTheLibrary) {
   // The rigid offset is found and removed: APE well below the offset.
   EXPECT_LT(r.ape_translation_stats.rmse, 0.5);
 
-  for (const char* name : {"trajectories.png", "ape_map.png", "ape.png", "rpe.png"}) {
+  for (const char* name :
+       {"trajectories.png", "ape_map.png", "ape.png", "rpe.png"}) {
     const cv::Mat img = DecodePng(ReadText(plots + "/" + name));
     ASSERT_FALSE(img.empty()) << name;
     EXPECT_EQ(img.cols, 1400) << name;
@@ -203,13 +213,16 @@ TEST_F(EvalCommandTest, TableReportAndPlotsAgreeWithTheLibrary) {
 
 TEST_F(EvalCommandTest, PositionalFormAndAlignmentChoices) {
   const std::string log = dir_ + "/log.txt";
-  ASSERT_EQ(testing::RunSlam("eval " + ref_ + " " + est_ + " --align none", log), 0)
+  ASSERT_EQ(
+      testing::RunSlam("eval " + ref_ + " " + est_ + " --align none", log), 0)
       << ReadText(log);
   EXPECT_NE(ReadText(log).find("alignment: none"), std::string::npos);
-  ASSERT_EQ(testing::RunSlam("eval " + ref_ + " " + est_ + " --align sim3", log), 0)
+  ASSERT_EQ(
+      testing::RunSlam("eval " + ref_ + " " + est_ + " --align sim3", log), 0)
       << ReadText(log);
   EXPECT_NE(ReadText(log).find("Sim(3) Umeyama on all 400 pairs"),
-            std::string::npos) << ReadText(log);
+            std::string::npos)
+      << ReadText(log);
 }
 
 TEST_F(EvalCommandTest, UsageAndInputErrors) {
@@ -217,20 +230,23 @@ TEST_F(EvalCommandTest, UsageAndInputErrors) {
   EXPECT_EQ(testing::RunSlam("eval --ref " + ref_, log), 2);
   EXPECT_NE(ReadText(log).find("give the reference and the estimate"),
             std::string::npos);
-  EXPECT_EQ(testing::RunSlam("eval --ref " + ref_ + " --est " + est_ +
-                                 " --align affine", log),
-            2);
+  EXPECT_EQ(
+      testing::RunSlam(
+          "eval --ref " + ref_ + " --est " + est_ + " --align affine", log),
+      2);
   EXPECT_NE(ReadText(log).find("--align must be"), std::string::npos);
-  EXPECT_EQ(testing::RunSlam("eval --ref " + ref_ + " --est " + dir_ +
-                                 "/missing.txt", log),
+  EXPECT_EQ(testing::RunSlam(
+                "eval --ref " + ref_ + " --est " + dir_ + "/missing.txt", log),
             1);
   EXPECT_NE(ReadText(log).find("missing.txt: cannot open"), std::string::npos)
       << ReadText(log);
-  EXPECT_EQ(testing::RunSlam("eval --ref " + ref_ + " --est " + est_ +
-                                 " --format kitti", log),
-            1);
+  EXPECT_EQ(
+      testing::RunSlam(
+          "eval --ref " + ref_ + " --est " + est_ + " --format kitti", log),
+      1);
   EXPECT_NE(ReadText(log).find("ref.tum:2: expected 12 values"),
-            std::string::npos) << ReadText(log);
+            std::string::npos)
+      << ReadText(log);
 }
 
 TEST_F(EvalCommandTest, NoMatchingStampsSaysWhyAndOffsetFixesIt) {
@@ -240,7 +256,8 @@ TEST_F(EvalCommandTest, NoMatchingStampsSaysWhyAndOffsetFixesIt) {
   std::string error;
   ASSERT_TRUE(WriteTrajectory(late_path, late, TrajectoryFormat::kTum, &error));
   const std::string log = dir_ + "/log.txt";
-  EXPECT_EQ(testing::RunSlam("eval --ref " + ref_ + " --est " + late_path, log), 1);
+  EXPECT_EQ(testing::RunSlam("eval --ref " + ref_ + " --est " + late_path, log),
+            1);
   const std::string out = ReadText(log);
   EXPECT_NE(out.find("found no matching timestamps"), std::string::npos) << out;
   EXPECT_NE(out.find("--t_offset -100.003"), std::string::npos) << out;
@@ -255,21 +272,25 @@ TEST_F(EvalCommandTest, NoMatchingStampsSaysWhyAndOffsetFixesIt) {
 TEST_F(EvalCommandTest, ConfigFileAndDumpConfig) {
   const std::string log = dir_ + "/log.txt";
   const std::string config = dir_ + "/eval.yaml";
-  std::ofstream(config) << "eval:\n  align: sim3\n  rpe_delta: 3\n  rpe_unit: m\n";
-  ASSERT_EQ(testing::RunSlam("eval --config " + config + " --dump_config", log), 0)
+  std::ofstream(config)
+      << "eval:\n  align: sim3\n  rpe_delta: 3\n  rpe_unit: m\n";
+  ASSERT_EQ(testing::RunSlam("eval --config " + config + " --dump_config", log),
+            0)
       << ReadText(log);
   std::string out = ReadText(log);
   EXPECT_NE(out.find("align: sim3"), std::string::npos) << out;
   EXPECT_NE(out.find("rpe_unit: m"), std::string::npos) << out;
   // An explicit flag wins over the file.
-  ASSERT_EQ(testing::RunSlam("eval --config " + config +
-                                 " --align origin --dump_config", log),
-            0);
+  ASSERT_EQ(
+      testing::RunSlam(
+          "eval --config " + config + " --align origin --dump_config", log),
+      0);
   EXPECT_NE(ReadText(log).find("align: origin"), std::string::npos);
   std::ofstream(config) << "eval:\n  algin: sim3\n";
-  EXPECT_EQ(testing::RunSlam("eval --config " + config + " --ref " + ref_ +
-                                 " --est " + est_, log),
-            2);
+  EXPECT_EQ(
+      testing::RunSlam(
+          "eval --config " + config + " --ref " + ref_ + " --est " + est_, log),
+      2);
   EXPECT_NE(ReadText(log).find("unknown key 'algin'"), std::string::npos)
       << ReadText(log);
 }
@@ -281,18 +302,21 @@ TEST(EvalCommandRealDataTest, Kitti00WithTheKittiMetric) {
   const std::string log = tmp + "/log.txt";
   const std::string report = tmp + "/kitti.json";
   const auto start = std::chrono::steady_clock::now();
-  ASSERT_EQ(testing::RunSlam("eval --ref " + dir + "/KITTI_00_gt.txt --est " +
-                                 dir + "/KITTI_00_ORB.txt --rpe_delta 10 "
-                                 "--rpe_unit m --kitti --report " + report,
-                             log),
-            0)
+  ASSERT_EQ(
+      testing::RunSlam("eval --ref " + dir + "/KITTI_00_gt.txt --est " + dir +
+                           "/KITTI_00_ORB.txt --rpe_delta 10 "
+                           "--rpe_unit m --kitti --report " +
+                           report,
+                       log),
+      0)
       << ReadText(log);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
           .count();
-  std::printf("slam eval KITTI 00 (APE, RPE 10 m, KITTI metric, JSON), whole "
-              "process: %.0f ms\n%s",
-              1e3 * seconds, ReadText(log).c_str());
+  std::printf(
+      "slam eval KITTI 00 (APE, RPE 10 m, KITTI metric, JSON), whole "
+      "process: %.0f ms\n%s",
+      1e3 * seconds, ReadText(log).c_str());
   EXPECT_LT(seconds, 1.0);
   const std::string json = ReadText(report);
   EXPECT_EQ(JsonNumberIn(json, "", "matched_pairs"), 4541.0);

@@ -127,7 +127,8 @@ TEST(EvaluationTest, Se3AlignmentRemovesAKnownRigidOffsetExactly) {
   EXPECT_LT(r.ape_translation_stats.max, 1e-9);
   EXPECT_LT(r.ape_rotation_stats.max, 1e-6);
   // The applied transform is the inverse of the offset.
-  EXPECT_TRUE(r.alignment.rotation.isApprox(offset.rotation.transpose(), 1e-12));
+  EXPECT_TRUE(
+      r.alignment.rotation.isApprox(offset.rotation.transpose(), 1e-12));
   EXPECT_TRUE(r.alignment.translation.isApprox(
       -(offset.rotation.transpose() * offset.translation), 1e-12));
   EXPECT_DOUBLE_EQ(r.alignment.scale, 1.0);
@@ -168,7 +169,8 @@ TEST(EvaluationTest, NToAlignUsesOnlyTheFirstPoses) {
   std::string error;
   ASSERT_TRUE(EvaluateTrajectories(ref, est, s, &r, &error)) << error;
   for (size_t i = 0; i < 50; ++i) EXPECT_LT(r.ape_translation[i], 1e-9);
-  for (size_t i = 50; i < 300; ++i) EXPECT_NEAR(r.ape_translation[i], 3.0, 1e-9);
+  for (size_t i = 50; i < 300; ++i)
+    EXPECT_NEAR(r.ape_translation[i], 3.0, 1e-9);
   s.n_to_align = -1;
   ASSERT_TRUE(EvaluateTrajectories(ref, est, s, &r, &error)) << error;
   EXPECT_GT(r.ape_translation[0], 0.1);
@@ -267,7 +269,8 @@ TEST(RpeTest, MetresAllPairsTakesTheFirstOfEqualCandidates) {
   // Poses standing still at 2 m path: candidates 2, 3, 4 are all 2 m from
   // pose 0; numpy's argmin takes the first.
   std::vector<Pose3> p;
-  for (double x : {0.0, 1.0, 2.0, 2.0, 2.0, 5.0}) p.push_back(MakePose(x, 0, 0, 0, 0, 0));
+  for (double x : {0.0, 1.0, 2.0, 2.0, 2.0, 5.0})
+    p.push_back(MakePose(x, 0, 0, 0, 0, 0));
   RpeOptions o;
   o.delta = 2.2;
   o.unit = DeltaUnit::kMeters;
@@ -365,7 +368,8 @@ TEST(AssociationTest, JitteredStampsWithAnOffset) {
   // reference stamp, 50 poses too late: only the offset gets them right.
   Association a = AssociateByTimestamp(ref, est, o);
   ASSERT_EQ(a.size(), 300u);
-  for (size_t k = 0; k < a.size(); ++k) EXPECT_EQ(a.ref_indices[k], truth[k] + 50);
+  for (size_t k = 0; k < a.size(); ++k)
+    EXPECT_EQ(a.ref_indices[k], truth[k] + 50);
 
   o.t_offset = -0.5;
   a = AssociateByTimestamp(ref, est, o);
@@ -461,9 +465,12 @@ void HornAlign(const std::vector<Eigen::Vector3d>& x,
       sxy - syx, szx + sxz, syz + szy, -sxx - syy + szz;
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eig(n);
   const Eigen::Vector4d q = eig.eigenvectors().col(3);  // Largest eigenvalue.
-  *r = Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized().toRotationMatrix();
+  *r = Eigen::Quaterniond(q[0], q[1], q[2], q[3])
+           .normalized()
+           .toRotationMatrix();
   double num = 0.0;
-  for (size_t i = 0; i < x.size(); ++i) num += (y[i] - cy).dot(*r * (x[i] - cx));
+  for (size_t i = 0; i < x.size(); ++i)
+    num += (y[i] - cy).dot(*r * (x[i] - cx));
   *s = with_scale ? num / xx : 1.0;
   *t = cy - *s * (*r * cx);
 }
@@ -550,7 +557,9 @@ Eigen::Matrix3d NearestRotation(const Eigen::Matrix3d& r) {
       m(0, 0) + m(1, 1) + m(2, 2);
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eig(k / 3.0);
   const Eigen::Vector4d v = eig.eigenvectors().col(3);  // x y z w
-  return Eigen::Quaterniond(v[3], v[0], v[1], v[2]).normalized().toRotationMatrix();
+  return Eigen::Quaterniond(v[3], v[0], v[1], v[2])
+      .normalized()
+      .toRotationMatrix();
 }
 
 TEST(IndependentCodeTest, NearestRotationKeepsARotation) {
@@ -596,8 +605,8 @@ std::vector<Stamped4> ParseTum(const std::string& path) {
   while (std::getline(in, line)) {
     if (line.empty() || line[0] == '#') continue;
     double t, x, y, z, qx, qy, qz, qw;
-    if (std::sscanf(line.c_str(), "%lf %lf %lf %lf %lf %lf %lf %lf", &t, &x,
-                    &y, &z, &qx, &qy, &qz, &qw) != 8) {
+    if (std::sscanf(line.c_str(), "%lf %lf %lf %lf %lf %lf %lf %lf", &t, &x, &y,
+                    &z, &qx, &qy, &qz, &qw) != 8) {
       continue;
     }
     const double n = std::sqrt(qx * qx + qy * qy + qz * qz + qw * qw);
@@ -619,7 +628,8 @@ std::vector<Stamped4> ParseTum(const std::string& path) {
 
 double Angle(const Eigen::Matrix3d& r) {
   // Robust rotation angle: atan2(|axis term|, trace term).
-  const Eigen::Vector3d w(r(2, 1) - r(1, 2), r(0, 2) - r(2, 0), r(1, 0) - r(0, 1));
+  const Eigen::Vector3d w(r(2, 1) - r(1, 2), r(0, 2) - r(2, 0),
+                          r(1, 0) - r(0, 1));
   return std::atan2(0.5 * w.norm(), 0.5 * (r.trace() - 1.0));
 }
 
@@ -704,7 +714,8 @@ Independent RunIndependent(const std::vector<Stamped4>& ref_in,
   for (auto& m : est) m = align * m;
   std::vector<double> ape_t, ape_r;
   for (size_t i = 0; i < ref.size(); ++i) {
-    ape_t.push_back((est[i].block<3, 1>(0, 3) - ref[i].block<3, 1>(0, 3)).norm());
+    ape_t.push_back(
+        (est[i].block<3, 1>(0, 3) - ref[i].block<3, 1>(0, 3)).norm());
     const Mat4 e = est[i].inverse() * ref[i];
     ape_r.push_back(Angle(e.block<3, 3>(0, 0)) * kDeg);
   }
@@ -717,14 +728,16 @@ Independent RunIndependent(const std::vector<Stamped4>& ref_in,
     double path = 0.0;
     for (size_t i = 0; i < est.size(); ++i) {
       if (i > 0) {
-        path += (est[i].block<3, 1>(0, 3) - est[i - 1].block<3, 1>(0, 3)).norm();
+        path +=
+            (est[i].block<3, 1>(0, 3) - est[i - 1].block<3, 1>(0, 3)).norm();
       }
       if (path >= rpe_delta) {
         ids.push_back(i);
         path = 0.0;
       }
     }
-    for (size_t k = 1; k < ids.size(); ++k) pairs.emplace_back(ids[k - 1], ids[k]);
+    for (size_t k = 1; k < ids.size(); ++k)
+      pairs.emplace_back(ids[k - 1], ids[k]);
   } else {
     const size_t d = static_cast<size_t>(rpe_delta);
     for (size_t i = 0; i + d < est.size(); i += d) pairs.emplace_back(i, i + d);
@@ -775,8 +788,10 @@ void PrintStats(const char* name, const ErrorStatistics& s) {
 }
 
 TEST(RealDataTest, Kitti00OrbMatchesAnIndependentComputation) {
-  const std::string gt = testing::DatasetPath("trajectories_evo/KITTI_00_gt.txt");
-  const std::string orb = testing::DatasetPath("trajectories_evo/KITTI_00_ORB.txt");
+  const std::string gt =
+      testing::DatasetPath("trajectories_evo/KITTI_00_gt.txt");
+  const std::string orb =
+      testing::DatasetPath("trajectories_evo/KITTI_00_ORB.txt");
   SLAM_REQUIRE_DATASET(gt);
   SLAM_REQUIRE_DATASET(orb);
   const auto start = std::chrono::steady_clock::now();
@@ -791,13 +806,15 @@ TEST(RealDataTest, Kitti00OrbMatchesAnIndependentComputation) {
   s.rpe.unit = DeltaUnit::kMeters;
   s.kitti = true;
   EvalResult r;
-  ASSERT_TRUE(EvaluateTrajectories(ref.poses, est.poses, s, &r, &error)) << error;
+  ASSERT_TRUE(EvaluateTrajectories(ref.poses, est.poses, s, &r, &error))
+      << error;
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
           .count();
-  std::printf("KITTI 00 ORB vs GT (SE(3) Umeyama; RPE 10 m consecutive, "
-              "pairs on the estimate): read + APE + RPE + KITTI in %.1f ms\n",
-              1e3 * seconds);
+  std::printf(
+      "KITTI 00 ORB vs GT (SE(3) Umeyama; RPE 10 m consecutive, "
+      "pairs on the estimate): read + APE + RPE + KITTI in %.1f ms\n",
+      1e3 * seconds);
   PrintStats("APE trans [m]", r.ape_translation_stats);
   PrintStats("APE rot [deg]", r.ape_rotation_stats);
   PrintStats("RPE trans [m]", r.rpe_translation_stats);
@@ -830,7 +847,8 @@ TEST(RealDataTest, Kitti00OrbMatchesAnIndependentComputation) {
   s.rpe.delta = 1.0;
   s.rpe.unit = DeltaUnit::kFrames;
   s.kitti = false;
-  ASSERT_TRUE(EvaluateTrajectories(ref.poses, est.poses, s, &r, &error)) << error;
+  ASSERT_TRUE(EvaluateTrajectories(ref.poses, est.poses, s, &r, &error))
+      << error;
   const Independent ind1 =
       RunIndependent(ParseKitti(gt), ParseKitti(orb), false, 1.0, false);
   std::printf("  RPE delta 1 frame:\n");
@@ -854,10 +872,12 @@ TEST(RealDataTest, Fr1XyzRgbdslamMatchesAnIndependentComputation) {
   ASSERT_TRUE(ReadTrajectory(est_path, {}, &est, &error)) << error;
   EvalSettings s;  // Timestamps, 0.01 s, SE(3), RPE 1 frame.
   EvalResult r;
-  ASSERT_TRUE(EvaluateTrajectories(ref.poses, est.poses, s, &r, &error)) << error;
-  std::printf("fr1/xyz rgbdslam vs GT (t_max_diff 0.01 s, SE(3) Umeyama, RPE "
-              "1 frame): %zu of max. %zu pairs\n",
-              r.association.size(), r.association.max_pairs);
+  ASSERT_TRUE(EvaluateTrajectories(ref.poses, est.poses, s, &r, &error))
+      << error;
+  std::printf(
+      "fr1/xyz rgbdslam vs GT (t_max_diff 0.01 s, SE(3) Umeyama, RPE "
+      "1 frame): %zu of max. %zu pairs\n",
+      r.association.size(), r.association.max_pairs);
   PrintStats("APE trans [m]", r.ape_translation_stats);
   PrintStats("APE rot [deg]", r.ape_rotation_stats);
   PrintStats("RPE trans [m]", r.rpe_translation_stats);
@@ -878,9 +898,11 @@ TEST(RealDataTest, Fr1XyzRgbdslamMatchesAnIndependentComputation) {
   // (or equal) APE than SE(3).
   s.align = AlignmentMethod::kSim3;
   EvalResult r3;
-  ASSERT_TRUE(EvaluateTrajectories(ref.poses, est.poses, s, &r3, &error)) << error;
+  ASSERT_TRUE(EvaluateTrajectories(ref.poses, est.poses, s, &r3, &error))
+      << error;
   EXPECT_NEAR(r3.alignment.scale, 1.0, 0.1);
-  EXPECT_LE(r3.ape_translation_stats.rmse, r.ape_translation_stats.rmse + 1e-12);
+  EXPECT_LE(r3.ape_translation_stats.rmse,
+            r.ape_translation_stats.rmse + 1e-12);
 }
 
 }  // namespace

@@ -110,8 +110,8 @@ Pose2 Perturb(const Pose2& p, Rng* rng, double scale) {
 }
 
 Pose3 Perturb(const Pose3& p, Rng* rng, double scale) {
-  const Eigen::Vector3d phi = scale * Eigen::Vector3d(rng->Normal(), rng->Normal(),
-                                                       rng->Normal());
+  const Eigen::Vector3d phi =
+      scale * Eigen::Vector3d(rng->Normal(), rng->Normal(), rng->Normal());
   return p * Pose3(scale * Eigen::Vector3d(rng->Normal(), rng->Normal(),
                                            rng->Normal()),
                    QuaternionExp<double>(phi));
@@ -163,7 +163,8 @@ TEST(PoseFactorBuildersTest, StoreTypeKeysMeasurementAndInformation) {
   {
     const Pose2 z = rng.RandomPose2();
     Factor f;
-    ASSERT_TRUE(MakePriorSE2(Pose2Key(2), z, rng.ScaledInformation(3), &f, &error));
+    ASSERT_TRUE(
+        MakePriorSE2(Pose2Key(2), z, rng.ScaledInformation(3), &f, &error));
     EXPECT_EQ(f.type, FactorType::kPriorSE2);
     EXPECT_EQ(f.keys, std::vector<Key>{Pose2Key(2)});
     EXPECT_EQ(f.cost->parameter_block_sizes(), (std::vector<int32_t>{3}));
@@ -186,8 +187,8 @@ TEST(PoseFactorBuildersTest, StoreTypeKeysMeasurementAndInformation) {
   }
   {
     Factor f;
-    ASSERT_TRUE(MakePriorSE3(Pose3Key(4), rng.RandomPose3(), rng.ScaledInformation(6),
-                             &f, &error));
+    ASSERT_TRUE(MakePriorSE3(Pose3Key(4), rng.RandomPose3(),
+                             rng.ScaledInformation(6), &f, &error));
     EXPECT_EQ(f.type, FactorType::kPriorSE3);
     EXPECT_EQ(f.cost->parameter_block_sizes(), (std::vector<int32_t>{7}));
   }
@@ -204,8 +205,8 @@ TEST(PoseFactorBuildersTest, RejectBadInformation) {
   for (const Eigen::Matrix3d& bad : {indefinite, asymmetric, nan, zero}) {
     Factor f;
     std::string error;
-    EXPECT_FALSE(MakeBetweenSE2(Pose2Key(0), Pose2Key(1), Pose2(), bad, &f,
-                                &error));
+    EXPECT_FALSE(
+        MakeBetweenSE2(Pose2Key(0), Pose2Key(1), Pose2(), bad, &f, &error));
     EXPECT_NE(error.find("positive definite"), std::string::npos) << error;
     error.clear();
     EXPECT_FALSE(MakePriorSE2(Pose2Key(0), Pose2(), bad, &f, &error));
@@ -215,8 +216,8 @@ TEST(PoseFactorBuildersTest, RejectBadInformation) {
   bad6(5, 5) = -1e-3;
   Factor f;
   std::string error;
-  EXPECT_FALSE(MakeBetweenSE3(Pose3Key(0), Pose3Key(1), Pose3(), bad6, &f,
-                              &error));
+  EXPECT_FALSE(
+      MakeBetweenSE3(Pose3Key(0), Pose3Key(1), Pose3(), bad6, &f, &error));
   EXPECT_FALSE(error.empty());
   error.clear();
   EXPECT_FALSE(MakePriorSE3(Pose3Key(0), Pose3(), bad6, &f, &error));
@@ -285,8 +286,8 @@ TEST(BetweenSE2FactorTest, ZeroAtTheMeasurement) {
     const Pose2 xj = xi * z;
     Factor f;
     std::string error;
-    ASSERT_TRUE(MakeBetweenSE2(Pose2Key(0), Pose2Key(1), z, rng.ScaledInformation(3),
-                               &f, &error));
+    ASSERT_TRUE(MakeBetweenSE2(Pose2Key(0), Pose2Key(1), z,
+                               rng.ScaledInformation(3), &f, &error));
     const std::vector<double> vi = Pose2Value(xi), vj = Pose2Value(xj);
     EXPECT_LT(Evaluate(*f.cost, {vi.data(), vj.data()}).norm(), 1e-10);
   }
@@ -307,8 +308,8 @@ TEST(BetweenSE2FactorTest, JacobiansMatchNumericInTangentSpace) {
     if (std::abs(G2oErrorBetweenSE2(xi, xj, z)[2]) > M_PI - 0.1) continue;
     Factor f;
     std::string error;
-    ASSERT_TRUE(MakeBetweenSE2(Pose2Key(0), Pose2Key(1), z, rng.ScaledInformation(3),
-                               &f, &error));
+    ASSERT_TRUE(MakeBetweenSE2(Pose2Key(0), Pose2Key(1), z,
+                               rng.ScaledInformation(3), &f, &error));
     ceres::GradientChecker checker(f.cost.get(), &manifolds, numeric_options);
     ceres::GradientChecker::ProbeResults results;
     const std::vector<double> vi = Pose2Value(xi), vj = Pose2Value(xj);
@@ -353,7 +354,8 @@ TEST(PriorSE2FactorTest, ZeroAtTheMeasurementAndJacobians) {
     const Pose2 x = trial % 2 == 0 ? rng.RandomPose2() : Perturb(z, &rng, 0.3);
     Factor f;
     std::string error;
-    ASSERT_TRUE(MakePriorSE2(Pose2Key(0), z, rng.ScaledInformation(3), &f, &error));
+    ASSERT_TRUE(
+        MakePriorSE2(Pose2Key(0), z, rng.ScaledInformation(3), &f, &error));
     const std::vector<double> vz = Pose2Value(z);
     EXPECT_LT(Evaluate(*f.cost, {vz.data()}).norm(), 1e-12);
     if (std::abs(G2oErrorPriorSE2(x, z)[2]) > M_PI - 0.1) continue;
@@ -426,8 +428,8 @@ TEST(BetweenSE3FactorTest, ZeroAtTheMeasurement) {
     const Pose3 xj = xi * z;
     Factor f;
     std::string error;
-    ASSERT_TRUE(MakeBetweenSE3(Pose3Key(0), Pose3Key(1), z, rng.ScaledInformation(6),
-                               &f, &error));
+    ASSERT_TRUE(MakeBetweenSE3(Pose3Key(0), Pose3Key(1), z,
+                               rng.ScaledInformation(6), &f, &error));
     const std::vector<double> vi = Pose3Value(xi), vj = Pose3Value(xj);
     EXPECT_LT(Evaluate(*f.cost, {vi.data(), vj.data()}).norm(), 1e-9);
   }
@@ -479,8 +481,8 @@ TEST(BetweenSE3FactorTest, JacobiansMatchNumericInTangentSpace) {
     if (!SafeForNumericDiff(G2oErrorBetweenSE3(xi, xj, z))) continue;
     Factor f;
     std::string error;
-    ASSERT_TRUE(MakeBetweenSE3(Pose3Key(0), Pose3Key(1), z, rng.ScaledInformation(6),
-                               &f, &error));
+    ASSERT_TRUE(MakeBetweenSE3(Pose3Key(0), Pose3Key(1), z,
+                               rng.ScaledInformation(6), &f, &error));
     ceres::GradientChecker checker(f.cost.get(), &manifolds, numeric_options);
     ceres::GradientChecker::ProbeResults results;
     const std::vector<double> vi = Pose3Value(xi), vj = Pose3Value(xj);
@@ -496,9 +498,9 @@ TEST(BetweenSE3FactorTest, JacobiansMatchNumericInTangentSpace) {
     EXPECT_TRUE(checker.Probe(neg_params, kGradientPrecision, &neg_results))
         << neg_results.error_log;
     for (int k = 0; k < 2; ++k) {
-      EXPECT_LT((neg_results.local_jacobians[k] - results.local_jacobians[k])
-                    .norm(),
-                1e-9 * std::max(1.0, results.local_jacobians[k].norm()));
+      EXPECT_LT(
+          (neg_results.local_jacobians[k] - results.local_jacobians[k]).norm(),
+          1e-9 * std::max(1.0, results.local_jacobians[k].norm()));
     }
   }
   EXPECT_GT(probed, 60);
@@ -524,9 +526,8 @@ Eigen::MatrixXd NumericTangentJacobian(const ceres::CostFunction& cost,
       EXPECT_TRUE(manifold.Plus(base.data(), delta.data(), values[k].data()));
       std::vector<const double*> params;
       for (const auto& v : values) params.push_back(v.data());
-      EXPECT_TRUE(cost.Evaluate(params.data(),
-                                sign > 0 ? r_plus.data() : r_minus.data(),
-                                nullptr));
+      EXPECT_TRUE(cost.Evaluate(
+          params.data(), sign > 0 ? r_plus.data() : r_minus.data(), nullptr));
     }
     jac.col(c) = (r_plus - r_minus) / (2 * h);
   }
@@ -535,12 +536,14 @@ Eigen::MatrixXd NumericTangentJacobian(const ceres::CostFunction& cost,
 
 // Analytic tangent-space Jacobian: ambient Jacobian times PlusJacobian.
 Eigen::MatrixXd AnalyticTangentJacobian(
-    const ceres::CostFunction& cost, const std::vector<std::vector<double>>& values,
+    const ceres::CostFunction& cost,
+    const std::vector<std::vector<double>>& values,
     const ceres::Manifold& manifold, int k) {
   const int m = cost.num_residuals();
   std::vector<const double*> params;
   for (const auto& v : values) params.push_back(v.data());
-  std::vector<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>
+  std::vector<
+      Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>
       ambient;
   std::vector<double*> jac_ptrs;
   for (const auto& v : values) {
@@ -565,8 +568,8 @@ TEST(BetweenSE3FactorTest, JacobiansAtTheMeasurement) {
     const Pose3 xj = xi * z;
     Factor f;
     std::string error;
-    ASSERT_TRUE(MakeBetweenSE3(Pose3Key(0), Pose3Key(1), z, rng.ScaledInformation(6),
-                               &f, &error));
+    ASSERT_TRUE(MakeBetweenSE3(Pose3Key(0), Pose3Key(1), z,
+                               rng.ScaledInformation(6), &f, &error));
     const std::vector<std::vector<double>> values = {Pose3Value(xi),
                                                      Pose3Value(xj)};
     for (int k = 0; k < 2; ++k) {
@@ -575,7 +578,8 @@ TEST(BetweenSE3FactorTest, JacobiansAtTheMeasurement) {
       const Eigen::MatrixXd analytic =
           AnalyticTangentJacobian(*f.cost, values, se3, k);
       EXPECT_LT((numeric - analytic).norm(), 1e-6 * analytic.norm())
-          << "block " << k << "\nnumeric\n" << numeric << "\nanalytic\n"
+          << "block " << k << "\nnumeric\n"
+          << numeric << "\nanalytic\n"
           << analytic;
     }
   }
@@ -590,8 +594,8 @@ TEST(BetweenSE2FactorTest, JacobiansAtTheMeasurement) {
     const Pose2 xj = xi * z;
     Factor f;
     std::string error;
-    ASSERT_TRUE(MakeBetweenSE2(Pose2Key(0), Pose2Key(1), z, rng.ScaledInformation(3),
-                               &f, &error));
+    ASSERT_TRUE(MakeBetweenSE2(Pose2Key(0), Pose2Key(1), z,
+                               rng.ScaledInformation(3), &f, &error));
     const std::vector<std::vector<double>> values = {Pose2Value(xi),
                                                      Pose2Value(xj)};
     for (int k = 0; k < 2; ++k) {
@@ -642,11 +646,13 @@ TEST(PriorSE3FactorTest, ZeroAtMeasurementSignInvarianceAndJacobians) {
     ASSERT_TRUE(MakePriorSE3(Pose3Key(0), z, info, &f, &error));
     ASSERT_TRUE(
         MakePriorSE3(Pose3Key(0), NegatedQuaternion(z), info, &f_neg, &error));
-    const std::vector<double> vz = Pose3Value(z), vzn = Pose3Value(NegatedQuaternion(z));
+    const std::vector<double> vz = Pose3Value(z),
+                              vzn = Pose3Value(NegatedQuaternion(z));
     EXPECT_LT(Evaluate(*f.cost, {vz.data()}).norm(), 1e-10);
     EXPECT_LT(Evaluate(*f.cost, {vzn.data()}).norm(), 1e-10);
 
-    const std::vector<double> v = Pose3Value(x), vn = Pose3Value(NegatedQuaternion(x));
+    const std::vector<double> v = Pose3Value(x),
+                              vn = Pose3Value(NegatedQuaternion(x));
     const Eigen::VectorXd r = Evaluate(*f.cost, {v.data()});
     const double tol = 1e-11 * std::max(1.0, r.norm());
     EXPECT_LT((Evaluate(*f.cost, {vn.data()}) - r).norm(), tol);
@@ -681,7 +687,8 @@ TEST(GraphFactorTest, Chi2SumsFactorErrorsAndRejectsBadFactors) {
     const Pose3 z = Perturb(poses[i].Inverse() * poses[i + 1], &rng, 0.1);
     const Matrix6d info = rng.ScaledInformation(6);
     Factor f;
-    ASSERT_TRUE(MakeBetweenSE3(Pose3Key(i), Pose3Key(i + 1), z, info, &f, &error));
+    ASSERT_TRUE(
+        MakeBetweenSE3(Pose3Key(i), Pose3Key(i + 1), z, info, &f, &error));
     ASSERT_GE(graph.AddFactor(f), 0);
     const Vector6d e = G2oErrorBetweenSE3(poses[i], poses[i + 1], z);
     expected += e.dot(info * e);

@@ -2,6 +2,7 @@
 // (datasets/g2o_io.h).
 #include "datasets/g2o_io.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -10,7 +11,6 @@
 #include <fstream>
 #include <limits>
 #include <map>
-#include <algorithm>
 #include <random>
 #include <sstream>
 #include <string>
@@ -30,8 +30,8 @@ namespace {
 
 using ::slam::testing::DatasetPath;
 using ::slam::testing::FixturePath;
-using ::slam::testing::TempDir;
 using ::slam::testing::ReadText;
+using ::slam::testing::TempDir;
 
 std::string WriteText(const std::string& path, const std::string& text) {
   std::ofstream out(path, std::ios::binary);
@@ -177,8 +177,7 @@ TEST(G2oIoTest, Reads2dFixtureWithEveryFeature) {
 TEST(G2oIoTest, RoundTrip2dFixture) {
   Graph graph;
   std::string error;
-  ASSERT_TRUE(Read(FixturePath("g2o_2d_features.g2o"), &graph, nullptr,
-                   &error))
+  ASSERT_TRUE(Read(FixturePath("g2o_2d_features.g2o"), &graph, nullptr, &error))
       << error;
   const std::string text = ExpectRoundTrip(graph, TempDir(), "fixture.g2o");
   EXPECT_NE(text.find("FIX 0\n"), std::string::npos);
@@ -235,13 +234,11 @@ TEST(G2oIoTest, Reads3dFixtureNormalizesQuaternions) {
 TEST(G2oIoTest, RoundTrip3dFixture) {
   Graph graph;
   std::string error;
-  ASSERT_TRUE(Read(FixturePath("g2o_3d_features.g2o"), &graph, nullptr,
-                   &error))
+  ASSERT_TRUE(Read(FixturePath("g2o_3d_features.g2o"), &graph, nullptr, &error))
       << error;
   const std::string text = ExpectRoundTrip(graph, TempDir(), "fixture.g2o");
   EXPECT_NE(text.find("FIX 0\nFIX 1\n"), std::string::npos);
-  EXPECT_NE(text.find("PARAMS_SE3OFFSET 0 0 0 0 0 0 0 1\n"),
-            std::string::npos);
+  EXPECT_NE(text.find("PARAMS_SE3OFFSET 0 0 0 0 0 0 0 1\n"), std::string::npos);
   EXPECT_NE(text.find("EDGE_SE3_PRIOR 2 0 "), std::string::npos);
 }
 
@@ -257,8 +254,8 @@ TEST(G2oIoTest, RoundTripIsBitExactOnRandomGraphs) {
     for (int r = 0; r < n; ++r) {
       for (int c = 0; c < n; ++c) a(r, c) = normal(rng);
     }
-    Eigen::MatrixXd info = a * a.transpose() +
-                           Eigen::MatrixXd::Identity(n, n) * 0.1;
+    Eigen::MatrixXd info =
+        a * a.transpose() + Eigen::MatrixXd::Identity(n, n) * 0.1;
     return Eigen::MatrixXd(0.5 * (info + info.transpose()));
   };
   const std::string dir = TempDir();
@@ -275,9 +272,8 @@ TEST(G2oIoTest, RoundTripIsBitExactOnRandomGraphs) {
         Eigen::Quaterniond q(normal(rng), normal(rng), normal(rng),
                              normal(rng));
         q.normalize();
-        value = {uniform(rng), uniform(rng), uniform(rng),
-                 q.x(),        q.y(),        q.z(),
-                 q.w()};
+        value = {uniform(rng), uniform(rng), uniform(rng), q.x(),
+                 q.y(),        q.z(),        q.w()};
       }
       if (i == 1) value[0] = -0.0;
       if (i == 2) value[0] = 4.9406564584124654e-324;  // Smallest subnormal.
@@ -285,13 +281,13 @@ TEST(G2oIoTest, RoundTripIsBitExactOnRandomGraphs) {
       if (i == 4) value[1] = 0.1;
       if (dimension == 2 && i == 5) value[2] = -M_PI;
       if (dimension == 2 && i == 6) value[2] = std::nextafter(M_PI, 0.0);
-      ASSERT_NE(graph.AddNode(dimension == 2 ? Pose2Key(i * 7 - 3)
-                                             : Pose3Key(i * 7 - 3),
-                              value),
+      ASSERT_NE(graph.AddNode(
+                    dimension == 2 ? Pose2Key(i * 7 - 3) : Pose3Key(i * 7 - 3),
+                    value),
                 nullptr);
-      if (i % 9 == 0) graph.SetFixed(dimension == 2 ? Pose2Key(i * 7 - 3)
-                                                     : Pose3Key(i * 7 - 3),
-                                     true);
+      if (i % 9 == 0)
+        graph.SetFixed(
+            dimension == 2 ? Pose2Key(i * 7 - 3) : Pose3Key(i * 7 - 3), true);
     }
     for (int k = 0; k < 150; ++k) {
       const int i = static_cast<int>(rng() % num_nodes);
@@ -304,12 +300,11 @@ TEST(G2oIoTest, RoundTripIsBitExactOnRandomGraphs) {
         z.t = Eigen::Vector2d(normal(rng), normal(rng));
         z.theta = std::uniform_real_distribution<double>(-M_PI, M_PI)(rng);
         const Eigen::Matrix3d info = random_information(3);
-        ASSERT_TRUE(k % 10 == 9
-                        ? MakePriorSE2(Pose2Key(i * 7 - 3), z, info, &factor,
-                                       &error)
-                        : MakeBetweenSE2(Pose2Key(i * 7 - 3),
-                                         Pose2Key(j * 7 - 3), z, info,
-                                         &factor, &error))
+        ASSERT_TRUE(
+            k % 10 == 9
+                ? MakePriorSE2(Pose2Key(i * 7 - 3), z, info, &factor, &error)
+                : MakeBetweenSE2(Pose2Key(i * 7 - 3), Pose2Key(j * 7 - 3), z,
+                                 info, &factor, &error))
             << error;
       } else {
         Pose3 z;
@@ -318,12 +313,11 @@ TEST(G2oIoTest, RoundTripIsBitExactOnRandomGraphs) {
                                  normal(rng))
                   .normalized();
         const Eigen::Matrix<double, 6, 6> info = random_information(6);
-        ASSERT_TRUE(k % 10 == 9
-                        ? MakePriorSE3(Pose3Key(i * 7 - 3), z, info, &factor,
-                                       &error)
-                        : MakeBetweenSE3(Pose3Key(i * 7 - 3),
-                                         Pose3Key(j * 7 - 3), z, info,
-                                         &factor, &error))
+        ASSERT_TRUE(
+            k % 10 == 9
+                ? MakePriorSE3(Pose3Key(i * 7 - 3), z, info, &factor, &error)
+                : MakeBetweenSE3(Pose3Key(i * 7 - 3), Pose3Key(j * 7 - 3), z,
+                                 info, &factor, &error))
             << error;
       }
       ASSERT_GE(graph.AddFactor(std::move(factor)), 0);
@@ -336,8 +330,7 @@ TEST(G2oIoTest, InitializesFromEdgesWhenThereAreNoVertices) {
   Graph graph;
   GraphReadReport report;
   std::string error;
-  ASSERT_TRUE(Read(FixturePath("g2o_no_vertices.g2o"), &graph, &report,
-                   &error))
+  ASSERT_TRUE(Read(FixturePath("g2o_no_vertices.g2o"), &graph, &report, &error))
       << error;
   EXPECT_TRUE(report.initialized_from_edges);
   EXPECT_EQ(report.vertices, 0);
@@ -365,8 +358,8 @@ TEST(G2oIoTest, InitializesFromEdgesWhenThereAreNoVertices3d) {
   Graph graph;
   GraphReadReport report;
   std::string error;
-  ASSERT_TRUE(Read(FixturePath("g2o_3d_no_vertices.g2o"), &graph, &report,
-                   &error))
+  ASSERT_TRUE(
+      Read(FixturePath("g2o_3d_no_vertices.g2o"), &graph, &report, &error))
       << error;
   EXPECT_TRUE(report.initialized_from_edges);
   ASSERT_EQ(graph.NumNodes(), 3u);
@@ -424,8 +417,7 @@ struct MalformedCase {
 constexpr char kV2[] = "VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 0\n";
 constexpr char kV3[] =
     "VERTEX_SE3:QUAT 0 0 0 0 0 0 0 1\nVERTEX_SE3:QUAT 1 1 0 0 0 0 0 1\n";
-constexpr char kInfo21[] =
-    " 1 0 0 0 0 0 1 0 0 0 0 1 0 0 0 1 0 0 1 0 1\n";
+constexpr char kInfo21[] = " 1 0 0 0 0 0 1 0 0 0 0 1 0 0 0 1 0 0 1 0 1\n";
 
 std::vector<MalformedCase> MalformedCases() {
   static const std::string v2 = kV2;
@@ -451,8 +443,10 @@ std::vector<MalformedCase> MalformedCases() {
       v3 + "EDGE_SE3:QUAT 0 1 1 0 0 0 0 0 1" + std::string(kInfo21, 20),
       v3 + "EDGE_SE3:QUAT 0 1 1 0 0 0 0 0 1 1 0 0 0 0 0 1 0 0 0 0 1 0 0 0 "
            "-1 0 0 1 0 1\n",
-      v3 + "PARAMS_SE3OFFSET 0 0.1 0 0 0 0 0 1\nEDGE_SE3_PRIOR 0 0 0 0 0 0 0 "
-           "0 1" + kInfo21,
+      v3 +
+          "PARAMS_SE3OFFSET 0 0.1 0 0 0 0 0 1\nEDGE_SE3_PRIOR 0 0 0 0 0 0 0 "
+          "0 1" +
+          kInfo21,
       v2 + "FIX\n",
       v2 + "EDGE_SE2 0 1 1 0 0 1 0 0 1 0 1\nEDGE_SE2 0 1 0x10 0 0 1 0 0 1 0 "
            "1\n",
@@ -487,8 +481,7 @@ std::vector<MalformedCase> MalformedCases() {
       {"bad_id", texts[15].c_str(), 1, "bad vertex id '1.5'"},
       {"zero_quaternion", texts[16].c_str(), 3,
        "quaternion of vertex 2 has zero length"},
-      {"missing_information", texts[17].c_str(), 3,
-       "(missing fields)"},
+      {"missing_information", texts[17].c_str(), 3, "(missing fields)"},
       {"3d_not_positive_definite", texts[18].c_str(), 3,
        "information matrix is not positive definite"},
       {"prior_with_offset", texts[19].c_str(), 4,
@@ -504,8 +497,7 @@ TEST(G2oIoTest, MalformedInputFailsWithFileLineAndProblem) {
   const std::string dir = TempDir();
   for (const MalformedCase& c : MalformedCases()) {
     SCOPED_TRACE(c.name);
-    const std::string path =
-        WriteText(dir + "/" + c.name + ".g2o", c.text);
+    const std::string path = WriteText(dir + "/" + c.name + ".g2o", c.text);
     Graph graph;
     GraphReadReport report;
     std::string error;
@@ -520,11 +512,11 @@ TEST(G2oIoTest, MalformedInputFailsWithFileLineAndProblem) {
 
 TEST(G2oIoTest, RepairsInformationWhenAsked) {
   const std::string dir = TempDir();
-  const std::string path = WriteText(
-      dir + "/indefinite.g2o",
-      std::string(kV2) + "EDGE_SE2 0 1 1 0 0 1 2 0 1 0 1\n"
-                         "EDGE_SE2 0 1 1 0 0 1 0 0 1 0 1\n"
-                         "EDGE_SE2 1 0 1 0 0 1 0 0 0 0 1\n");
+  const std::string path = WriteText(dir + "/indefinite.g2o",
+                                     std::string(kV2) +
+                                         "EDGE_SE2 0 1 1 0 0 1 2 0 1 0 1\n"
+                                         "EDGE_SE2 0 1 1 0 0 1 0 0 1 0 1\n"
+                                         "EDGE_SE2 1 0 1 0 0 1 0 0 0 0 1\n");
   GraphReadOptions options;
   options.repair_information = true;
   Graph graph;
@@ -563,8 +555,8 @@ TEST(G2oIoTest, RefusesANonEmptyGraph) {
   Graph graph;
   graph.AddNode(Pose2Key(0), {0, 0, 0});
   std::string error;
-  EXPECT_FALSE(Read(FixturePath("g2o_2d_features.g2o"), &graph, nullptr,
-                    &error));
+  EXPECT_FALSE(
+      Read(FixturePath("g2o_2d_features.g2o"), &graph, nullptr, &error));
   EXPECT_NE(error.find("not empty"), std::string::npos) << error;
   EXPECT_EQ(graph.NumNodes(), 1u);
 }
@@ -588,9 +580,10 @@ TEST(G2oIoTest, SkipsAUtf8ByteOrderMark) {
   Graph graph;
   GraphReadReport report;
   std::string error;
-  ASSERT_TRUE(ReadG2oFromText("bom", "\xEF\xBB\xBF" + std::string(kV2) +
-                                         "EDGE_SE2 0 1 1 0 0 1 0 0 1 0 1\n",
-                              {}, &graph, &report, &error))
+  ASSERT_TRUE(ReadG2oFromText(
+      "bom",
+      "\xEF\xBB\xBF" + std::string(kV2) + "EDGE_SE2 0 1 1 0 0 1 0 0 1 0 1\n",
+      {}, &graph, &report, &error))
       << error;
   EXPECT_EQ(graph.NumNodes(), 2u);
   EXPECT_TRUE(report.warnings.empty());
@@ -613,8 +606,8 @@ TEST(G2oIoTest, NeverCrashesOnDamagedInput) {
   std::mt19937 rng(7);
   const std::string alphabet = "0123456789.-+eE #\n\t\rnaifx:_VERTEX";
   int failures = 0, successes = 0;
-  for (const char* fixture : {"g2o_2d_features.g2o", "g2o_3d_features.g2o",
-                              "g2o_no_vertices.g2o"}) {
+  for (const char* fixture :
+       {"g2o_2d_features.g2o", "g2o_3d_features.g2o", "g2o_no_vertices.g2o"}) {
     const std::string original = ReadText(FixturePath(fixture));
     ASSERT_FALSE(original.empty());
     for (int iteration = 0; iteration < 1500; ++iteration) {
@@ -668,8 +661,8 @@ TEST(G2oIoTest, NeverCrashesOnDamagedInput) {
 TEST(G2oIoTest, WriteFailureLeavesNoFile) {
   const std::string dir = TempDir();
   Graph graph;
-  ASSERT_TRUE(Read(FixturePath("g2o_2d_features.g2o"), &graph, nullptr,
-                   nullptr));
+  ASSERT_TRUE(
+      Read(FixturePath("g2o_2d_features.g2o"), &graph, nullptr, nullptr));
   WriteText(dir + "/plain_file", "x");
   std::filesystem::create_directory(dir + "/a_directory");
   for (const std::string& path :
@@ -697,8 +690,8 @@ TEST(G2oIoTest, WriteReplacesAnExistingFileAtomically) {
   const std::string dir = TempDir();
   const std::string path = WriteText(dir + "/out.g2o", "old contents\n");
   Graph graph;
-  ASSERT_TRUE(Read(FixturePath("g2o_2d_features.g2o"), &graph, nullptr,
-                   nullptr));
+  ASSERT_TRUE(
+      Read(FixturePath("g2o_2d_features.g2o"), &graph, nullptr, nullptr));
   std::string error;
   ASSERT_TRUE(WriteG2o(path, graph, &error)) << error;
   const std::string text = ReadText(path);
@@ -745,10 +738,10 @@ TEST(G2oIoTest, ReadPoseGraphPicksTheReaderByContentThenExtension) {
   GraphReadReport report;
   std::string error;
   // TORO content in a .g2o file: the content wins.
-  const std::string toro = WriteText(
-      dir + "/toro_inside.g2o",
-      "# comment\nUNKNOWN 1\nVERTEX2 0 0 0 0\nVERTEX2 1 1 0 0\n"
-      "EDGE2 0 1 1 0 0 1 0 1 1 0 0\n");
+  const std::string toro =
+      WriteText(dir + "/toro_inside.g2o",
+                "# comment\nUNKNOWN 1\nVERTEX2 0 0 0 0\nVERTEX2 1 1 0 0\n"
+                "EDGE2 0 1 1 0 0 1 0 1 1 0 0\n");
   ASSERT_TRUE(ReadPoseGraph(toro, {}, &graph, &report, &error)) << error;
   EXPECT_EQ(graph.NumNodes(), 2u);
   EXPECT_EQ(graph.NumFactors(), 1u);
@@ -766,8 +759,8 @@ TEST(G2oIoTest, ReadPoseGraphPicksTheReaderByContentThenExtension) {
   for (const char* name : {"params.graph", "params.g2o", "params.txt"}) {
     SCOPED_TRACE(name);
     Graph graph3;
-    ASSERT_TRUE(ReadPoseGraph(WriteText(dir + "/" + name, params), {},
-                              &graph3, &report, &error))
+    ASSERT_TRUE(ReadPoseGraph(WriteText(dir + "/" + name, params), {}, &graph3,
+                              &report, &error))
         << error;
     EXPECT_EQ(graph3.NumNodes(), 0u);
     const bool toro = std::string(name) == "params.graph";
@@ -778,10 +771,10 @@ TEST(G2oIoTest, ReadPoseGraphPicksTheReaderByContentThenExtension) {
     }
   }
   // An EDGE2 line after an unknown first tag in a .txt file is TORO.
-  const std::string txt = WriteText(
-      dir + "/late.txt",
-      "VERTEX_LINE 5 1 1\nVERTEX2 0 0 0 0\nVERTEX2 1 1 0 0\n"
-      "EDGE2 0 1 1 0 0 1 0 2 3 0 0\n");
+  const std::string txt =
+      WriteText(dir + "/late.txt",
+                "VERTEX_LINE 5 1 1\nVERTEX2 0 0 0 0\nVERTEX2 1 1 0 0\n"
+                "EDGE2 0 1 1 0 0 1 0 2 3 0 0\n");
   Graph graph4;
   ASSERT_TRUE(ReadPoseGraph(txt, {}, &graph4, &report, &error)) << error;
   ASSERT_EQ(graph4.NumFactors(), 1u);
@@ -794,8 +787,7 @@ TEST(G2oIoTest, WritePoseGraphPicksTheWriterByExtension) {
   const std::string dir = TempDir();
   Graph graph;
   std::string error;
-  ASSERT_TRUE(Read(FixturePath("g2o_no_vertices.g2o"), &graph, nullptr,
-                   &error))
+  ASSERT_TRUE(Read(FixturePath("g2o_no_vertices.g2o"), &graph, nullptr, &error))
       << error;
   ASSERT_TRUE(WritePoseGraph(dir + "/out.graph", graph, &error)) << error;
   ASSERT_TRUE(WritePoseGraph(dir + "/out.G2O", graph, &error)) << error;
@@ -833,8 +825,7 @@ const std::vector<DatasetCase>& Datasets() {
       {"posegraph_2d/kitti_00.g2o", 4541, 4677, false},
       {"posegraph_2d/manhattan.g2o", 3500, 5453, false},
       {"posegraph_2d/vertigo_ring.g2o", 434, 459, true},
-      {"posegraph_2d/groundtruth/vertigo_ring_groundTruth.g2o", 434, 459,
-       true},
+      {"posegraph_2d/groundtruth/vertigo_ring_groundTruth.g2o", 434, 459, true},
       {"posegraph_3d/gtsam_Klaus3.g2o", 3, 3, true},
       {"posegraph_3d/gtsam_pose3example-offdiagonal.txt", 2, 1, true},
       {"posegraph_3d/gtsam_pose3example.txt", 5, 6, true},
@@ -887,8 +878,7 @@ TEST(G2oIoTest, AllSharedPoseGraphsRoundTripExactly) {
     SCOPED_TRACE(c.file);
     Graph graph;
     std::string error;
-    ASSERT_TRUE(ReadPoseGraph(DatasetPath(c.file), {}, &graph, nullptr,
-                              &error))
+    ASSERT_TRUE(ReadPoseGraph(DatasetPath(c.file), {}, &graph, nullptr, &error))
         << error;
     ExpectRoundTrip(graph, dir, "round_trip.g2o");
   }
@@ -983,8 +973,8 @@ std::vector<std::vector<double>> LinesWithTag(const std::string& path,
 }
 
 TEST(G2oIoTest, Chi2MatchesAHandComputationOfTheG2oError2d) {
-  for (const char* file : {"posegraph_2d/gtsam_noisyToyGraph.txt",
-                           "posegraph_2d/intel.g2o"}) {
+  for (const char* file :
+       {"posegraph_2d/gtsam_noisyToyGraph.txt", "posegraph_2d/intel.g2o"}) {
     SCOPED_TRACE(file);
     const std::string path = DatasetPath(file);
     SLAM_REQUIRE_DATASET(path);
@@ -1093,8 +1083,7 @@ double SecondsToLoad(const std::string& path, size_t* nodes) {
     const auto stop = std::chrono::steady_clock::now();
     EXPECT_TRUE(ok) << error;
     *nodes = graph.NumNodes();
-    best = std::min(best,
-                    std::chrono::duration<double>(stop - start).count());
+    best = std::min(best, std::chrono::duration<double>(stop - start).count());
   }
   return best;
 }
@@ -1111,9 +1100,10 @@ TEST(G2oIoTest, LargeFilesLoad) {
   EXPECT_EQ(nodes, 5000u);
   const double city_seconds = SecondsToLoad(city, &nodes);
   EXPECT_EQ(nodes, 10000u);
-  std::printf("load times (best of 3): torus3D.g2o %.4f s, city10000.g2o "
-              "%.4f s\n",
-              torus_seconds, city_seconds);
+  std::printf(
+      "load times (best of 3): torus3D.g2o %.4f s, city10000.g2o "
+      "%.4f s\n",
+      torus_seconds, city_seconds);
 }
 
 }  // namespace

@@ -16,11 +16,11 @@
 namespace slam {
 namespace {
 
+using ::slam::testing::Contains;
+using ::slam::testing::ReadText;
 using ::slam::testing::RunSlam;
 using ::slam::testing::TempDir;
-using ::slam::testing::ReadText;
 using ::slam::testing::WriteText;
-using ::slam::testing::Contains;
 
 struct SlamRun {
   int code = -1;
@@ -50,7 +50,8 @@ double NumberAfter(const std::string& text, const std::string& label) {
 //   1-2   X_1^-1 X_2 = (1, 0, 0), Z = (1.5, 0, 0)    e = (-0.5, 0, 0), I11 = 2
 //                                                    chi2 0.5
 //   2-3   X_2^-1 X_3 = (-2, 0, 0) = Z                chi2 0
-//   3-0   identity, Z = (0, 0, 0.1)                  e = (0, 0, -0.1), I33 = 100
+//   3-0   identity, Z = (0, 0, 0.1)                  e = (0, 0, -0.1), I33 =
+//   100
 //                                                    chi2 1.0
 //   10-11 X_10^-1 X_11 = (1, 0, 0), Z = (1, 0.5, 0)  e = (0, -0.5, 0), I22 = 4
 //                                                    chi2 1.0
@@ -162,9 +163,9 @@ TEST(InfoCommandTest, AgreesWithSimulateAndOptimize) {
 
   run = RunCaptured("optimize --quiet -i " + dir + "/graph.g2o", tmp);
   ASSERT_EQ(run.code, 0) << run.all();
-  EXPECT_TRUE(Contains(run.out, "200 nodes, " +
-                                    std::to_string(static_cast<int>(factors)) +
-                                    " factors"))
+  EXPECT_TRUE(Contains(
+      run.out,
+      "200 nodes, " + std::to_string(static_cast<int>(factors)) + " factors"))
       << run.out << info_out;
   EXPECT_NEAR(NumberAfter(run.out, "factors, chi2 "), info_chi2,
               1e-9 * info_chi2);
@@ -178,8 +179,9 @@ TEST(InfoCommandTest, FailsCleanly) {
   EXPECT_TRUE(run.out.empty()) << run.out;
 
   const std::string bad = tmp + "/bad.g2o";
-  WriteText(bad, "VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 0\n"
-                 "EDGE_SE2 0 1 1 0 0 1 0 0 -1 0 1\n");
+  WriteText(bad,
+            "VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 0\n"
+            "EDGE_SE2 0 1 1 0 0 1 0 0 -1 0 1\n");
   run = RunCaptured("info " + bad, tmp);
   EXPECT_EQ(run.code, 1);
   EXPECT_TRUE(Contains(run.err,

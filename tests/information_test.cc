@@ -186,7 +186,8 @@ TEST(NearestPositiveDefiniteTest, RepairsIndefiniteToCloseMatrix) {
   EXPECT_FALSE(IsPositiveDefinite(not_fixed));
   EXPECT_NEAR(not_fixed(0, 1), 0.3, 1e-15);
   EXPECT_NEAR(not_fixed(1, 0), 0.3, 1e-15);
-  EXPECT_FALSE(IsPositiveDefinite(NearestPositiveDefinite(Eigen::MatrixXd::Zero(3, 3))));
+  EXPECT_FALSE(
+      IsPositiveDefinite(NearestPositiveDefinite(Eigen::MatrixXd::Zero(3, 3))));
 }
 
 }  // namespace

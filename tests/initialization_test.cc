@@ -86,10 +86,10 @@ std::map<int64_t, Pose3> Trajectory3(Rng* rng, int64_t first, int n,
         Eigen::Quaterniond(Eigen::AngleAxisd(rng->Uniform(-1.5, 1.5),
                                              Eigen::Vector3d::UnitX()));
     gt[first + k] =
-        origin * Pose3(Eigen::Vector3d(8.0 * std::cos(a), 6.0 * std::sin(a),
-                                       2.0 * std::sin(3 * a) +
-                                           rng->Uniform(-0.3, 0.3)),
-                       q);
+        origin *
+        Pose3(Eigen::Vector3d(8.0 * std::cos(a), 6.0 * std::sin(a),
+                              2.0 * std::sin(3 * a) + rng->Uniform(-0.3, 0.3)),
+              q);
   }
   return gt;
 }
@@ -100,11 +100,11 @@ Pose2 Noise2(Rng* rng, double sigma_t, double sigma_r) {
 }
 
 Pose3 Noise3(Rng* rng, double sigma_t, double sigma_r) {
-  return Pose3(sigma_t * Eigen::Vector3d(rng->Normal(), rng->Normal(),
-                                         rng->Normal()),
-               QuaternionExp<double>(Eigen::Vector3d(
-                   sigma_r * rng->Normal(), sigma_r * rng->Normal(),
-                   sigma_r * rng->Normal())));
+  return Pose3(
+      sigma_t * Eigen::Vector3d(rng->Normal(), rng->Normal(), rng->Normal()),
+      QuaternionExp<double>(Eigen::Vector3d(sigma_r * rng->Normal(),
+                                            sigma_r * rng->Normal(),
+                                            sigma_r * rng->Normal())));
 }
 
 // Nodes at the ground truth, one between factor per edge with the exact
@@ -168,8 +168,8 @@ void AddGraph3(const std::map<int64_t, Pose3>& gt, const EdgeList& edges,
 void SetIdentity(Graph* graph, const Key& key) {
   Node* node = graph->FindNode(key);
   ASSERT_NE(node, nullptr);
-  node->value = key.kind == NodeKind::kPose2 ? Pose2Value(Pose2())
-                                             : Pose3Value(Pose3());
+  node->value =
+      key.kind == NodeKind::kPose2 ? Pose2Value(Pose2()) : Pose3Value(Pose3());
 }
 
 // Every pose node of the graph except `keep` set to the identity.
@@ -288,8 +288,8 @@ TEST(Initialization2DTest, FixedMiddleNodeIsTheAnchor) {
 
 TEST(Initialization3DTest, FixedMiddleNodeIsTheAnchor) {
   Rng rng(5);
-  const auto gt = Trajectory3(&rng, 0, 14, Pose3(Eigen::Vector3d(0, 0, 1),
-                                                 rng.Quaternion()));
+  const auto gt = Trajectory3(
+      &rng, 0, 14, Pose3(Eigen::Vector3d(0, 0, 1), rng.Quaternion()));
   for (InitMethod method : AllMethods()) {
     Graph graph;
     AddGraph3(gt, LoopEdges(0, 14), 0.0, 0.0, &rng, &graph);
@@ -464,7 +464,8 @@ void ExpectChordalTranslationsAreLeastSquares(unsigned seed) {
         info.bottomRightCorner<3, 3>() = 100.0 * Eigen::Matrix3d::Identity();
         Factor f;
         std::string error;
-        ASSERT_TRUE(MakeBetweenSE3(Pose3Key(i), Pose3Key(j), z, info, &f, &error));
+        ASSERT_TRUE(
+            MakeBetweenSE3(Pose3Key(i), Pose3Key(j), z, info, &f, &error));
         ASSERT_GE(graph->AddFactor(std::move(f)), 0);
       }
     } else {
@@ -481,7 +482,8 @@ void ExpectChordalTranslationsAreLeastSquares(unsigned seed) {
         info(2, 2) = 100.0;
         Factor f;
         std::string error;
-        ASSERT_TRUE(MakeBetweenSE2(Pose2Key(i), Pose2Key(j), z, info, &f, &error));
+        ASSERT_TRUE(
+            MakeBetweenSE2(Pose2Key(i), Pose2Key(j), z, info, &f, &error));
         ASSERT_GE(graph->AddFactor(std::move(f)), 0);
       }
     }
@@ -586,9 +588,10 @@ std::map<int64_t, Pose3> TwoLaps3(int per_lap) {
   for (int k = 0; k < 2 * per_lap; ++k) {
     const double a = 2.0 * M_PI * k / per_lap;
     const Eigen::Quaterniond q =
-        Eigen::Quaterniond(Eigen::AngleAxisd(a + M_PI / 2, Eigen::Vector3d::UnitZ())) *
-        Eigen::Quaterniond(Eigen::AngleAxisd(0.3 * std::sin(2 * a),
-                                             Eigen::Vector3d::UnitX()));
+        Eigen::Quaterniond(
+            Eigen::AngleAxisd(a + M_PI / 2, Eigen::Vector3d::UnitZ())) *
+        Eigen::Quaterniond(
+            Eigen::AngleAxisd(0.3 * std::sin(2 * a), Eigen::Vector3d::UnitX()));
     gt[k] = Pose3(Eigen::Vector3d(20.0 * std::cos(a), 20.0 * std::sin(a),
                                   3.0 * std::sin(a) + 0.05 * (k / per_lap)),
                   q);
@@ -619,7 +622,8 @@ NoisyResult RunNoisy(const AddGraphFn& add_graph, const Key& first) {
     Graph graph;
     add_graph(&graph);
     ResetAllBut(&graph, {first});
-    EXPECT_TRUE(InitializePoses(&graph, InitMethod::kOdometry, &error)) << error;
+    EXPECT_TRUE(InitializePoses(&graph, InitMethod::kOdometry, &error))
+        << error;
     result.odometry_chi2 = graph.Chi2();
   }
   {

@@ -102,8 +102,8 @@ TEST(LandmarkDataTest, VictoriaParkConfigThroughTheCommandLine) {
   const std::string log = dir + "/log.txt";
   ASSERT_EQ(::slam::testing::RunSlam(
                 "optimize --config " +
-                    ::slam::testing::ConfigPath("victoria_park.yaml") +
-                    " -i " + path + " -o " + dir + "/vp.g2o --plot " + dir +
+                    ::slam::testing::ConfigPath("victoria_park.yaml") + " -i " +
+                    path + " -o " + dir + "/vp.g2o --plot " + dir +
                     "/plots --report " + dir + "/report.json --quiet",
                 log),
             0)

@@ -39,7 +39,7 @@ ceres::NumericDiffOptions NumericOptions() {
   return options;
 }
 
-Eigen::Matrix4d Homogeneous3(const Pose3 &p) {
+Eigen::Matrix4d Homogeneous3(const Pose3& p) {
   Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
   m.topLeftCorner<3, 3>() = p.q.toRotationMatrix();
   m.topRightCorner<3, 1>() = p.t;
@@ -47,17 +47,17 @@ Eigen::Matrix4d Homogeneous3(const Pose3 &p) {
 }
 
 // Residual of a built factor at the given values.
-Eigen::VectorXd Residual(const Factor &f, const std::vector<double> &a,
-                         const std::vector<double> &b) {
-  const double *params[2] = {a.data(), b.data()};
+Eigen::VectorXd Residual(const Factor& f, const std::vector<double>& a,
+                         const std::vector<double>& b) {
+  const double* params[2] = {a.data(), b.data()};
   Eigen::VectorXd r(f.cost->num_residuals());
   EXPECT_TRUE(f.cost->Evaluate(params, r.data(), nullptr));
   return r;
 }
 
 // |r|^2 must equal e^T Omega e for the reference error e.
-void ExpectWhitened(const Factor &f, const Eigen::VectorXd &r,
-                    const Eigen::VectorXd &e) {
+void ExpectWhitened(const Factor& f, const Eigen::VectorXd& r,
+                    const Eigen::VectorXd& e) {
   const double chi2 = e.dot(f.information * e);
   EXPECT_NEAR(r.squaredNorm(), chi2, 1e-9 * (1.0 + chi2));
 }
@@ -66,19 +66,19 @@ void ExpectWhitened(const Factor &f, const Eigen::VectorXd &r,
 // (Ridders). Entries are compared with a tolerance relative to the largest
 // entry of their block, since several entries are exactly zero analytically
 // (where GradientChecker's entry-wise relative error is only noise).
-void ExpectGradientsOk(const Factor &f, const ceres::Manifold *pose_manifold,
-                       const std::vector<double> &a,
-                       const std::vector<double> &b) {
-  std::vector<const ceres::Manifold *> manifolds = {pose_manifold, nullptr};
+void ExpectGradientsOk(const Factor& f, const ceres::Manifold* pose_manifold,
+                       const std::vector<double>& a,
+                       const std::vector<double>& b) {
+  std::vector<const ceres::Manifold*> manifolds = {pose_manifold, nullptr};
   ceres::GradientChecker checker(f.cost.get(), &manifolds, NumericOptions());
   ceres::GradientChecker::ProbeResults results;
-  const double *params[2] = {a.data(), b.data()};
+  const double* params[2] = {a.data(), b.data()};
   checker.Probe(params, kGradientPrecision, &results);
   ASSERT_TRUE(results.return_value) << FactorTypeName(f.type);
   ASSERT_EQ(results.local_jacobians.size(), 2u);
   for (int k = 0; k < 2; ++k) {
-    const Eigen::MatrixXd &user = results.local_jacobians[k];
-    const Eigen::MatrixXd &numeric = results.local_numeric_jacobians[k];
+    const Eigen::MatrixXd& user = results.local_jacobians[k];
+    const Eigen::MatrixXd& numeric = results.local_numeric_jacobians[k];
     const double scale = std::max(1e-3, numeric.cwiseAbs().maxCoeff());
     EXPECT_LE((user - numeric).cwiseAbs().maxCoeff(),
               kGradientPrecision * scale)
@@ -89,14 +89,14 @@ void ExpectGradientsOk(const Factor &f, const ceres::Manifold *pose_manifold,
 }
 
 // A point in front of the camera at depth 2..20 m, within a +-40 deg cone.
-Eigen::Vector3d PointInFront(const Pose3 &camera, Rng *rng) {
+Eigen::Vector3d PointInFront(const Pose3& camera, Rng* rng) {
   const double z = rng->Uniform(2.0, 20.0);
   const Eigen::Vector3d p_c(rng->Uniform(-0.8, 0.8) * z,
                             rng->Uniform(-0.6, 0.6) * z, z);
   return camera * p_c;
 }
 
-std::vector<double> Vec(const Eigen::VectorXd &v) {
+std::vector<double> Vec(const Eigen::VectorXd& v) {
   return std::vector<double>(v.data(), v.data() + v.size());
 }
 
@@ -282,7 +282,7 @@ TEST(LandmarkFactorsTest, CameraFactorsFailBehindTheCamera) {
                                Eigen::Matrix2d::Identity(), &mono, &error));
   const std::vector<double> camera = Pose3Value(Pose3());
   const std::vector<double> behind = {0.0, 0.0, -3.0};
-  const double *params[2] = {camera.data(), behind.data()};
+  const double* params[2] = {camera.data(), behind.data()};
   double r[3];
   EXPECT_FALSE(stereo.cost->Evaluate(params, r, nullptr));
   EXPECT_FALSE(mono.cost->Evaluate(params, r, nullptr));
@@ -334,7 +334,7 @@ TEST(LandmarkFactorsTest, RemakeReproducesEveryFactor) {
   ASSERT_TRUE(MakeReprojection(Pose3Key(0), Point3Key(1), EurocPinhole(true),
                                Eigen::Vector2d(300, 200),
                                rng.ScaledInformation(2), &factors[4], &error));
-  for (const Factor &f : factors) {
+  for (const Factor& f : factors) {
     Factor copy;
     ASSERT_TRUE(RemakeLandmarkFactor(f, &copy, &error)) << error;
     EXPECT_EQ(copy.type, f.type);
@@ -376,8 +376,8 @@ TEST(LandmarkFactorsTest, InitializationPlacesPointsFromObservations) {
     ASSERT_GE(graph.AddFactor(f2), 0);
     const LandmarkInitReport report = InitializeLandmarks(&graph);
     EXPECT_EQ(report.initialized, 2);
-    const std::vector<double> &v1 = graph.FindNode(Point2Key(1))->value;
-    const std::vector<double> &v2 = graph.FindNode(Point2Key(2))->value;
+    const std::vector<double>& v1 = graph.FindNode(Point2Key(1))->value;
+    const std::vector<double>& v2 = graph.FindNode(Point2Key(2))->value;
     EXPECT_NEAR(v1[0], l1.x(), 1e-12);
     EXPECT_NEAR(v1[1], l1.y(), 1e-12);
     EXPECT_NEAR(v2[0], l2.x(), 1e-12);
@@ -415,14 +415,14 @@ TEST(LandmarkFactorsTest, InitializationPlacesPointsFromObservations) {
                                  Eigen::Matrix2d::Identity(), &m0, &error));
     ASSERT_TRUE(MakeReprojection(Pose3Key(1), Point3Key(3), pc_cal, uv1,
                                  Eigen::Matrix2d::Identity(), &m1, &error));
-    for (const Factor *f : {&rel, &st, &m0, &m1})
+    for (const Factor* f : {&rel, &st, &m0, &m1})
       ASSERT_GE(graph.AddFactor(*f), 0);
     const LandmarkInitReport report = InitializeLandmarks(&graph);
     EXPECT_EQ(report.initialized, 3);
     EXPECT_EQ(report.weak, 0);
     EXPECT_EQ(report.failed, 0);
     for (int k = 1; k <= 3; ++k) {
-      const std::vector<double> &v = graph.FindNode(Point3Key(k))->value;
+      const std::vector<double>& v = graph.FindNode(Point3Key(k))->value;
       EXPECT_LT((Eigen::Vector3d(v[0], v[1], v[2]) - l).norm(), 1e-6) << k;
     }
   }
@@ -492,7 +492,7 @@ void RunSyntheticBundleAdjustment(bool stereo) {
   EXPECT_EQ(summary.linear_solver, "SPARSE_SCHUR");
   EXPECT_LT(CameraPixelErrors(graph).rms, 1e-6);
   for (int j = 0; j < 40; ++j) {
-    const std::vector<double> &v = graph.FindNode(Point3Key(j))->value;
+    const std::vector<double>& v = graph.FindNode(Point3Key(j))->value;
     EXPECT_LT((Eigen::Vector3d(v[0], v[1], v[2]) - points[j]).norm(), 1e-6)
         << j;
   }

@@ -67,28 +67,27 @@ double AngleBetween(const Eigen::Quaterniond& a, const Eigen::Quaterniond& b) {
 
 TEST(NormalizeAngleTest, WrapsIntoHalfOpenInterval) {
   const double pi = M_PI;
-  const std::vector<double> inputs = {
-      0.0,
-      1.0,
-      -1.0,
-      pi,
-      -pi,
-      3.0 * pi,
-      -3.0 * pi,
-      2.0 * pi,
-      -2.0 * pi,
-      std::nextafter(pi, 0.0),
-      std::nextafter(pi, 4.0),
-      std::nextafter(-pi, 0.0),
-      std::nextafter(-pi, -4.0),
-      std::nextafter(3.0 * pi, 0.0),
-      std::nextafter(-3.0 * pi, 0.0),
-      pi - 1e-15,
-      -pi + 1e-15,
-      100.0,
-      -100.0,
-      1e6 + 0.25,
-      7.0 * pi / 2.0};
+  const std::vector<double> inputs = {0.0,
+                                      1.0,
+                                      -1.0,
+                                      pi,
+                                      -pi,
+                                      3.0 * pi,
+                                      -3.0 * pi,
+                                      2.0 * pi,
+                                      -2.0 * pi,
+                                      std::nextafter(pi, 0.0),
+                                      std::nextafter(pi, 4.0),
+                                      std::nextafter(-pi, 0.0),
+                                      std::nextafter(-pi, -4.0),
+                                      std::nextafter(3.0 * pi, 0.0),
+                                      std::nextafter(-3.0 * pi, 0.0),
+                                      pi - 1e-15,
+                                      -pi + 1e-15,
+                                      100.0,
+                                      -100.0,
+                                      1e6 + 0.25,
+                                      7.0 * pi / 2.0};
   for (double a : inputs) {
     const double w = NormalizeAngle(a);
     EXPECT_GE(w, -pi) << "input " << a;
@@ -158,9 +157,9 @@ TEST(QuaternionExpLogTest, LogInvertsExpAndPicksShortestRotation) {
   }
   // w = 0: a rotation by exactly pi.
   const Eigen::Quaterniond half_turn(0.0, 0.0, 0.0, 1.0);
-  EXPECT_LT((QuaternionLog<double>(half_turn) - Eigen::Vector3d(0, 0, M_PI))
-                .norm(),
-            1e-15);
+  EXPECT_LT(
+      (QuaternionLog<double>(half_turn) - Eigen::Vector3d(0, 0, M_PI)).norm(),
+      1e-15);
 }
 
 // ---------------------------------------------------------------------------
@@ -189,17 +188,17 @@ TEST(SE2ManifoldTest, CeresInvariantsNearPlusMinusPi) {
   for (double theta : {M_PI - 2e-3, -M_PI + 2e-3, M_PI - 0.1, -M_PI + 0.1}) {
     for (int trial = 0; trial < 20; ++trial) {
       const Vector x = SE2Value(rng.Uniform(-5, 5), rng.Uniform(-5, 5), theta);
-      const Vector y = SE2Value(rng.Uniform(-5, 5), rng.Uniform(-5, 5),
-                                trial % 2 == 0 ? -theta
-                                               : NormalizeAngle(theta - 0.01));
+      const Vector y =
+          SE2Value(rng.Uniform(-5, 5), rng.Uniform(-5, 5),
+                   trial % 2 == 0 ? -theta : NormalizeAngle(theta - 0.01));
       const Vector delta = SE2Value(rng.Uniform(-1, 1), rng.Uniform(-1, 1),
                                     rng.Uniform(-3.1, 3.1));
       EXPECT_THAT_MANIFOLD_INVARIANTS_HOLD(manifold, x, delta, y, kTolerance);
     }
   }
   // ... and the Jacobian-free invariants run right at the wrap point.
-  for (double theta : {-M_PI, std::nextafter(M_PI, 0.0), M_PI - 1e-12,
-                       -M_PI + 1e-12}) {
+  for (double theta :
+       {-M_PI, std::nextafter(M_PI, 0.0), M_PI - 1e-12, -M_PI + 1e-12}) {
     for (int trial = 0; trial < 20; ++trial) {
       const Vector x = SE2Value(rng.Uniform(-5, 5), rng.Uniform(-5, 5), theta);
       const Vector y = SE2Value(rng.Uniform(-5, 5), rng.Uniform(-5, 5),
@@ -254,9 +253,9 @@ TEST(SE2ManifoldTest, PlusMovesInBodyFrame) {
     ASSERT_TRUE(manifold.Plus(xi, d, o));
     // X [+] d = X * (d as a pose) with the translation applied first: the
     // right perturbation is t + R d_t, theta + d_theta (no SE(2) Exp).
-    const Eigen::Vector2d t = Eigen::Vector2d(xi[0], xi[1]) +
-                              Eigen::Rotation2Dd(xi[2]) *
-                                  Eigen::Vector2d(d[0], d[1]);
+    const Eigen::Vector2d t =
+        Eigen::Vector2d(xi[0], xi[1]) +
+        Eigen::Rotation2Dd(xi[2]) * Eigen::Vector2d(d[0], d[1]);
     EXPECT_NEAR(o[0], t.x(), 1e-13);
     EXPECT_NEAR(o[1], t.y(), 1e-13);
     EXPECT_NEAR(std::cos(o[2]), std::cos(xi[2] + d[2]), 1e-13);
@@ -352,8 +351,8 @@ TEST(SE3ManifoldTest, CeresInvariantsAtRandomPoints) {
   for (int trial = 0; trial < 300; ++trial) {
     const Eigen::Quaterniond qx = rng.Quaternion();
     const Vector x = SE3Value(RandomTranslation(&rng), qx);
-    const Vector y = AlignedSE3Value(RandomTranslation(&rng), rng.Quaternion(),
-                                     qx);
+    const Vector y =
+        AlignedSE3Value(RandomTranslation(&rng), rng.Quaternion(), qx);
     // |phi| < pi so that Minus(Plus(x, d), x) = d.
     const Vector delta = RandomSE3Delta(&rng, M_PI - 1e-3);
     EXPECT_THAT_MANIFOLD_INVARIANTS_HOLD(manifold, x, delta, y, kTolerance);
@@ -363,8 +362,8 @@ TEST(SE3ManifoldTest, CeresInvariantsAtRandomPoints) {
 TEST(SE3ManifoldTest, CeresInvariantsNearWZeroAndNegativeW) {
   const SE3Manifold manifold;
   Rng rng(6);
-  for (double w : {0.0, 1e-9, -1e-9, 1e-6, -1e-6, 1e-3, -1e-3, -0.5, -0.999,
-                   -1.0, 1.0}) {
+  for (double w :
+       {0.0, 1e-9, -1e-9, 1e-6, -1e-6, 1e-3, -1e-3, -0.5, -0.999, -1.0, 1.0}) {
     for (int trial = 0; trial < 20; ++trial) {
       const Eigen::Quaterniond qx = QuaternionWithW(&rng, w);
       const Vector x = SE3Value(RandomTranslation(&rng), qx);
@@ -435,7 +434,8 @@ TEST(SE3ManifoldTest, TranslationDeltaIsInBodyFrame) {
     EXPECT_LT((out.tail<4>() - q.coeffs()).norm(), 1e-15);
   }
   // A concrete case: yaw of 90 degrees, step along body x = world y.
-  const Eigen::Quaterniond yaw(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()));
+  const Eigen::Quaterniond yaw(
+      Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()));
   const Vector x = SE3Value(Eigen::Vector3d(1, 2, 3), yaw);
   Vector delta = Vector::Zero(6);
   delta[0] = 1.0;
@@ -460,8 +460,8 @@ TEST(SE3ManifoldTest, RotationDeltaIsRightMultipliedFullAngle) {
     EXPECT_LT((out.head<3>() - t).norm(), 1e-15);
     const Eigen::Quaterniond got(out[6], out[3], out[4], out[5]);
     EXPECT_NEAR(got.norm(), 1.0, 1e-14);
-    const Eigen::Quaterniond expected = q * Eigen::Quaterniond(
-                                                Eigen::AngleAxisd(angle, axis));
+    const Eigen::Quaterniond expected =
+        q * Eigen::Quaterniond(Eigen::AngleAxisd(angle, axis));
     EXPECT_LT(AngleBetween(got, expected), 1e-12);
     // Rotated by exactly |phi| (full angle, not half), about the body axis:
     // the world axis R * axis is left unchanged by the increment.
@@ -470,8 +470,8 @@ TEST(SE3ManifoldTest, RotationDeltaIsRightMultipliedFullAngle) {
         q.toRotationMatrix().transpose() * got.toRotationMatrix();
     EXPECT_LT((r_inc * axis - axis).norm(), 1e-12);
     // Left multiplication (world frame) differs in general.
-    const Eigen::Quaterniond left = Eigen::Quaterniond(
-                                        Eigen::AngleAxisd(angle, axis)) * q;
+    const Eigen::Quaterniond left =
+        Eigen::Quaterniond(Eigen::AngleAxisd(angle, axis)) * q;
     if (AngleBetween(left, expected) > 1e-3) {
       EXPECT_GT(AngleBetween(got, left), 1e-4);
     }
@@ -493,10 +493,12 @@ TEST(SE3ManifoldTest, PlusKeepsUnitQuaternion) {
 
 TEST(SE3ManifoldTest, MinusIsBodyFrameFullAngle) {
   const SE3Manifold manifold;
-  const Eigen::Quaterniond qx(Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 2, 3).normalized()));
+  const Eigen::Quaterniond qx(
+      Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 2, 3).normalized()));
   const Eigen::Vector3d tx(1, -2, 0.5);
   const Eigen::Vector3d axis = Eigen::Vector3d(-1, 0.5, 2).normalized();
-  const Eigen::Quaterniond qy = qx * Eigen::Quaterniond(Eigen::AngleAxisd(2.5, axis));
+  const Eigen::Quaterniond qy =
+      qx * Eigen::Quaterniond(Eigen::AngleAxisd(2.5, axis));
   const Eigen::Vector3d ty = tx + qx * Eigen::Vector3d(0.1, 0.2, 0.3);
   const Vector x = SE3Value(tx, qx);
   const Vector y = SE3Value(ty, qy);
@@ -508,10 +510,12 @@ TEST(SE3ManifoldTest, MinusIsBodyFrameFullAngle) {
 
 TEST(GraphManifoldTest, PoseKindsUseTheManifolds) {
   Graph graph;
-  EXPECT_NE(dynamic_cast<const SE2Manifold*>(graph.ManifoldFor(NodeKind::kPose2)),
-            nullptr);
-  EXPECT_NE(dynamic_cast<const SE3Manifold*>(graph.ManifoldFor(NodeKind::kPose3)),
-            nullptr);
+  EXPECT_NE(
+      dynamic_cast<const SE2Manifold*>(graph.ManifoldFor(NodeKind::kPose2)),
+      nullptr);
+  EXPECT_NE(
+      dynamic_cast<const SE3Manifold*>(graph.ManifoldFor(NodeKind::kPose3)),
+      nullptr);
   EXPECT_EQ(graph.ManifoldFor(NodeKind::kPoint3), nullptr);
   EXPECT_EQ(graph.ManifoldFor(NodeKind::kVelocity3), nullptr);
   EXPECT_EQ(TangentSize(NodeKind::kPose2), 3);

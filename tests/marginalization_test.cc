@@ -36,7 +36,7 @@ namespace {
 using testing::LinearCost;
 using testing::TestRng;
 
-Eigen::MatrixXd RandomMatrix(TestRng *rng, int rows, int cols) {
+Eigen::MatrixXd RandomMatrix(TestRng* rng, int rows, int cols) {
   Eigen::MatrixXd m(rows, cols);
   for (int r = 0; r < rows; ++r) {
     for (int c = 0; c < cols; ++c) m(r, c) = rng->Normal();
@@ -44,7 +44,7 @@ Eigen::MatrixXd RandomMatrix(TestRng *rng, int rows, int cols) {
   return m;
 }
 
-void AddLinear(Graph *graph, const std::vector<Key> &keys, TestRng *rng) {
+void AddLinear(Graph* graph, const std::vector<Key>& keys, TestRng* rng) {
   std::vector<Eigen::MatrixXd> a;
   for (size_t k = 0; k < keys.size(); ++k) a.push_back(RandomMatrix(rng, 3, 3));
   Eigen::VectorXd z(3);
@@ -57,7 +57,7 @@ void AddLinear(Graph *graph, const std::vector<Key> &keys, TestRng *rng) {
 
 // A chain of 3D Euclidean states x0..x(n-1): a unary factor on x0, one on
 // x3, linear factors between neighbours and a "loop" from x1 to x(n-1).
-void BuildLinearChain(Graph *graph, int n, unsigned seed) {
+void BuildLinearChain(Graph* graph, int n, unsigned seed) {
   TestRng rng(seed);
   for (int i = 0; i < n; ++i) {
     graph->AddNode(Point3Key(i), {rng.Normal(), rng.Normal(), rng.Normal()});
@@ -102,7 +102,7 @@ TEST(MarginalizationTest, LinearProblemMatchesFullEstimateAndCovariance) {
         << error;
     ASSERT_GE(prior_id, 0);
     EXPECT_EQ(window.NumNodes(), static_cast<size_t>(kN - 3));
-    const Factor *prior = window.FindFactor(prior_id);
+    const Factor* prior = window.FindFactor(prior_id);
     EXPECT_EQ(prior->type, FactorType::kMarginalizationPrior);
     // x1 reached x(n-1), x2 reached x3: the prior touches x3 and x(n-1).
     ASSERT_EQ(prior->keys.size(), 2u);
@@ -111,9 +111,9 @@ TEST(MarginalizationTest, LinearProblemMatchesFullEstimateAndCovariance) {
 
     Optimize(&window, Quiet(), nullptr);
     ASSERT_TRUE(ComputeMarginals(&window, kept, &cov_window, &error)) << error;
-    for (const Key &key : kept) {
-      const std::vector<double> &a = full.FindNode(key)->value;
-      const std::vector<double> &b = window.FindNode(key)->value;
+    for (const Key& key : kept) {
+      const std::vector<double>& a = full.FindNode(key)->value;
+      const std::vector<double>& b = window.FindNode(key)->value;
       for (int c = 0; c < 3; ++c)
         EXPECT_NEAR(a[c], b[c], 1e-8) << key.ToString();
       EXPECT_LT((cov_full[key] - cov_window[key]).norm(),
@@ -125,7 +125,7 @@ TEST(MarginalizationTest, LinearProblemMatchesFullEstimateAndCovariance) {
 
 // An SE(3) chain with odometry, a loop closure and a prior on the first pose;
 // measurements with noise of std `noise` (0: consistent measurements).
-void BuildPoseGraph(Graph *graph, int n, unsigned seed, double noise = 0.05) {
+void BuildPoseGraph(Graph* graph, int n, unsigned seed, double noise = 0.05) {
   TestRng rng(seed);
   std::vector<Pose3> truth;
   Pose3 x;
@@ -135,7 +135,7 @@ void BuildPoseGraph(Graph *graph, int n, unsigned seed, double noise = 0.05) {
                   QuaternionExp<double>(Eigen::Vector3d(0.05, 0.05, 0.4) +
                                         0.05 * rng.Normal3()));
   }
-  auto noisy = [&](const Pose3 &p, double s) {
+  auto noisy = [&](const Pose3& p, double s) {
     return Pose3(
         p.t + s * rng.Normal3(),
         p.q * QuaternionExp<double>(Eigen::Vector3d(s * rng.Normal3())));
@@ -166,11 +166,11 @@ void BuildPoseGraph(Graph *graph, int n, unsigned seed, double noise = 0.05) {
 }
 
 // Max difference between the kept poses of two graphs (tangent norm).
-double MaxPoseDifference(const Graph &a, const Graph &b,
-                         const std::vector<Key> &keys) {
+double MaxPoseDifference(const Graph& a, const Graph& b,
+                         const std::vector<Key>& keys) {
   const SE3Manifold se3;
   double worst = 0.0;
-  for (const Key &key : keys) {
+  for (const Key& key : keys) {
     Eigen::Matrix<double, 6, 1> d;
     se3.Minus(a.FindNode(key)->value.data(), b.FindNode(key)->value.data(),
               d.data());
@@ -195,7 +195,7 @@ TEST(MarginalizationTest, NonlinearPoseGraphMatchesBatch) {
   {
     Graph window;
     BuildPoseGraph(&window, kN, 3);
-    for (const auto &[key, node] : full.nodes()) {
+    for (const auto& [key, node] : full.nodes()) {
       std::copy(node->value.begin(), node->value.end(),
                 window.FindNode(key)->value.begin());
     }
@@ -206,7 +206,7 @@ TEST(MarginalizationTest, NonlinearPoseGraphMatchesBatch) {
     EXPECT_LT(MaxPoseDifference(full, window, kept), 1e-7);
     std::map<Key, Eigen::MatrixXd> cov_window;
     ASSERT_TRUE(ComputeMarginals(&window, kept, &cov_window, &error)) << error;
-    for (const Key &key : kept) {
+    for (const Key& key : kept) {
       EXPECT_LT((cov_full[key] - cov_window[key]).norm(),
                 1e-6 * cov_full[key].norm());
     }
@@ -226,7 +226,7 @@ TEST(MarginalizationTest, NonlinearPoseGraphMatchesBatch) {
       BuildPoseGraph(&window, kN, 3, noise);
       TestRng rng(11);
       const SE3Manifold se3;
-      for (const auto &[key, node] : batch.nodes()) {
+      for (const auto& [key, node] : batch.nodes()) {
         Eigen::Matrix<double, 6, 1> d;
         for (int c = 0; c < 6; ++c) d[c] = s * rng.Normal();
         se3.Plus(node->value.data(), d.data(),
@@ -280,7 +280,7 @@ LinearPrior PriorOverPoseAndPoint(unsigned seed) {
 
 TEST(MarginalizationPriorTest, JacobiansMatchNumericInTangentSpace) {
   const SE3Manifold se3;
-  const std::vector<const ceres::Manifold *> manifolds = {&se3, nullptr};
+  const std::vector<const ceres::Manifold*> manifolds = {&se3, nullptr};
   for (unsigned seed = 1; seed <= 10; ++seed) {
     const LinearPrior prior = PriorOverPoseAndPoint(seed);
     ASSERT_EQ(prior.keys.size(), 2u);
@@ -298,11 +298,11 @@ TEST(MarginalizationPriorTest, JacobiansMatchNumericInTangentSpace) {
     ceres::NumericDiffOptions numeric;
     ceres::GradientChecker checker(cost.get(), &manifolds, numeric);
     ceres::GradientChecker::ProbeResults results;
-    const double *params[2] = {pose.data(), point.data()};
+    const double* params[2] = {pose.data(), point.data()};
     EXPECT_TRUE(checker.Probe(params, 1e-6, &results)) << results.error_log;
     // At x0 the residual is r0 and the tangent Jacobian is J0.
     Eigen::VectorXd r(9);
-    const double *at_x0[2] = {prior.x0[0].data(), prior.x0[1].data()};
+    const double* at_x0[2] = {prior.x0[0].data(), prior.x0[1].data()};
     ASSERT_TRUE(cost->Evaluate(at_x0, r.data(), nullptr));
     EXPECT_LT((r - prior.r0).norm(), 1e-12);
     // J0^T J0 = H*, J0^T r0 = b*.
@@ -323,32 +323,32 @@ TEST(MarginalizationPriorTest, FirstEstimateJacobiansStayFixed) {
   ASSERT_TRUE(MarginalizeNodes(&window, {Point3Key(0)},
                                MarginalizationOptions(),
                                MakeMarginalizationPrior, &id, &error));
-  const auto *cost = dynamic_cast<const MarginalizationPriorCost *>(
+  const auto* cost = dynamic_cast<const MarginalizationPriorCost*>(
       window.FindFactor(id)->cost.get());
   ASSERT_NE(cost, nullptr);
   const LinearPrior before = cost->prior();
   Optimize(&window, Quiet(), nullptr);
   TestRng rng(4);
-  for (const auto &[key, node] : window.nodes()) {
-    for (double &v : node->value) v += rng.Normal();
+  for (const auto& [key, node] : window.nodes()) {
+    for (double& v : node->value) v += rng.Normal();
   }
-  const LinearPrior &after = cost->prior();
+  const LinearPrior& after = cost->prior();
   EXPECT_EQ((after.j0 - before.j0).norm(), 0.0);
   for (size_t k = 0; k < before.x0.size(); ++k) {
     EXPECT_EQ(after.x0[k], before.x0[k]);
   }
   // Euclidean blocks: the evaluated Jacobian is J0 wherever the values are,
   // while a fresh linearization at the moved values is a different prior.
-  const Factor &factor = *window.FindFactor(id);
-  std::vector<const double *> params =
-      static_cast<const Graph &>(window).ParameterBlocks(factor);
+  const Factor& factor = *window.FindFactor(id);
+  std::vector<const double*> params =
+      static_cast<const Graph&>(window).ParameterBlocks(factor);
   const int rows = cost->num_residuals();
   Eigen::VectorXd r(rows);
   std::vector<
       Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>
       jac(params.size());
-  std::vector<double *> jac_ptrs;
-  for (auto &j : jac) {
+  std::vector<double*> jac_ptrs;
+  for (auto& j : jac) {
     j.resize(rows, 3);
     jac_ptrs.push_back(j.data());
   }

@@ -63,8 +63,8 @@ Eigen::VectorXd StackedResiduals(const Graph& graph) {
 // Dense covariance (J^T J)^-1 over the tangent spaces of the `free` nodes, J
 // by central differences of the whitened residuals through DocumentedPlus.
 // Returns the per-node diagonal blocks.
-std::map<Key, Eigen::MatrixXd> ReferenceMarginals(Graph* graph,
-                                                  const std::vector<Key>& free) {
+std::map<Key, Eigen::MatrixXd> ReferenceMarginals(
+    Graph* graph, const std::vector<Key>& free) {
   std::map<Key, int> offset;
   int n = 0;
   for (const Key& k : free) {
@@ -108,16 +108,17 @@ void BuildChain2(Rng* rng, int n, Graph* graph) {
   std::vector<Pose2> gt;
   for (int k = 0; k < n; ++k) {
     gt.emplace_back(1.0 * k, 0.1 * std::sin(k), 0.2 * k);
-    const Pose2 noisy = gt.back() * Pose2(0.05 * rng->Normal(), 0.05 * rng->Normal(),
-                                          0.02 * rng->Normal());
+    const Pose2 noisy =
+        gt.back() *
+        Pose2(0.05 * rng->Normal(), 0.05 * rng->Normal(), 0.02 * rng->Normal());
     ASSERT_NE(graph->AddNode(Pose2Key(k), Pose2Value(noisy)), nullptr);
   }
   std::string error;
   auto add = [&](int i, int j) {
     Factor f;
     const Pose2 z = gt[i].Inverse() * gt[j];
-    ASSERT_TRUE(MakeBetweenSE2(Pose2Key(i), Pose2Key(j), z, rng->SpdMatrix(3, 20.0),
-                               &f, &error));
+    ASSERT_TRUE(MakeBetweenSE2(Pose2Key(i), Pose2Key(j), z,
+                               rng->SpdMatrix(3, 20.0), &f, &error));
     ASSERT_GE(graph->AddFactor(std::move(f)), 0);
   };
   for (int k = 0; k + 1 < n; ++k) add(k, k + 1);
@@ -127,17 +128,19 @@ void BuildChain2(Rng* rng, int n, Graph* graph) {
 void BuildChain3(Rng* rng, int n, Graph* graph) {
   std::vector<Pose3> gt;
   for (int k = 0; k < n; ++k) {
-    gt.emplace_back(Eigen::Vector3d(1.0 * k, 0.3 * k, 0.1 * k * k), rng->Quaternion());
+    gt.emplace_back(Eigen::Vector3d(1.0 * k, 0.3 * k, 0.1 * k * k),
+                    rng->Quaternion());
     const Pose3 noisy =
-        gt.back() * Pose3(0.05 * rng->Normal3(), QuaternionExp<double>(0.03 * rng->Normal3()));
+        gt.back() * Pose3(0.05 * rng->Normal3(),
+                          QuaternionExp<double>(0.03 * rng->Normal3()));
     ASSERT_NE(graph->AddNode(Pose3Key(k), Pose3Value(noisy)), nullptr);
   }
   std::string error;
   auto add = [&](int i, int j) {
     Factor f;
     const Pose3 z = gt[i].Inverse() * gt[j];
-    ASSERT_TRUE(MakeBetweenSE3(Pose3Key(i), Pose3Key(j), z, rng->SpdMatrix(6, 20.0),
-                               &f, &error));
+    ASSERT_TRUE(MakeBetweenSE3(Pose3Key(i), Pose3Key(j), z,
+                               rng->SpdMatrix(6, 20.0), &f, &error));
     ASSERT_GE(graph->AddFactor(std::move(f)), 0);
   };
   for (int k = 0; k + 1 < n; ++k) add(k, k + 1);
@@ -170,7 +173,9 @@ TEST(MarginalsTest, Chain2DWithPriorMatchesDenseInverse) {
     ASSERT_EQ(cov[k].rows(), 3);
     ASSERT_EQ(cov[k].cols(), 3);
     EXPECT_LT(RelativeDifference(cov[k], ref.at(k)), 1e-6)
-        << k.ToString() << "\ngot\n" << cov[k] << "\nexpected\n" << ref.at(k);
+        << k.ToString() << "\ngot\n"
+        << cov[k] << "\nexpected\n"
+        << ref.at(k);
     EXPECT_LT((cov[k] - cov[k].transpose()).norm(), 1e-12 * cov[k].norm());
   }
   // Uncertainty grows along the chain away from the prior (the loop closure
@@ -193,7 +198,9 @@ TEST(MarginalsTest, Chain2DFirstNodeFixedMatchesDenseInverse) {
     const auto ref = ReferenceMarginals(&graph, free);
     for (const Key& k : free) {
       EXPECT_LT(RelativeDifference(cov[k], ref.at(k)), 1e-6)
-          << k.ToString() << "\ngot\n" << cov[k] << "\nexpected\n" << ref.at(k);
+          << k.ToString() << "\ngot\n"
+          << cov[k] << "\nexpected\n"
+          << ref.at(k);
     }
     // The gauge node has zero covariance.
     EXPECT_EQ(cov[Pose2Key(0)], Eigen::MatrixXd::Zero(3, 3));
@@ -226,9 +233,9 @@ TEST(MarginalsTest, Chain3DWithPriorMatchesDenseInverse) {
   BuildChain3(&rng, 6, &graph);
   Factor prior;
   std::string error;
-  ASSERT_TRUE(MakePriorSE3(Pose3Key(0),
-                           Pose3(Eigen::Vector3d(0.1, 0.2, 0.3), rng.Quaternion()),
-                           rng.SpdMatrix(6, 100.0), &prior, &error));
+  ASSERT_TRUE(MakePriorSE3(
+      Pose3Key(0), Pose3(Eigen::Vector3d(0.1, 0.2, 0.3), rng.Quaternion()),
+      rng.SpdMatrix(6, 100.0), &prior, &error));
   ASSERT_GE(graph.AddFactor(prior), 0);
   const std::vector<Key> keys = Keys(graph);
   std::map<Key, Eigen::MatrixXd> cov;
@@ -238,7 +245,9 @@ TEST(MarginalsTest, Chain3DWithPriorMatchesDenseInverse) {
     ASSERT_EQ(cov[k].rows(), 6);
     ASSERT_EQ(cov[k].cols(), 6);
     EXPECT_LT(RelativeDifference(cov[k], ref.at(k)), 1e-6)
-        << k.ToString() << "\ngot\n" << cov[k] << "\nexpected\n" << ref.at(k);
+        << k.ToString() << "\ngot\n"
+        << cov[k] << "\nexpected\n"
+        << ref.at(k);
   }
 }
 
@@ -248,7 +257,8 @@ TEST(MarginalsTest, SubsetOfKeys) {
   BuildChain3(&rng, 5, &graph);
   std::map<Key, Eigen::MatrixXd> cov;
   std::string error;
-  ASSERT_TRUE(ComputeMarginals(&graph, {Pose3Key(2), Pose3Key(4)}, &cov, &error))
+  ASSERT_TRUE(
+      ComputeMarginals(&graph, {Pose3Key(2), Pose3Key(4)}, &cov, &error))
       << error;
   EXPECT_EQ(cov.size(), 2u);
   std::vector<Key> free = Keys(graph);
@@ -272,7 +282,8 @@ TEST(MarginalsTest, SinglePriorClosedForms) {
     Matrix6d info = Matrix6d::Zero();
     info.topLeftCorner<3, 3>() = Eigen::Vector3d(100.0, 4.0, 1.0).asDiagonal();
     info(0, 1) = info(1, 0) = 10.0;
-    info.bottomRightCorner<3, 3>() = Eigen::Vector3d(400.0, 25.0, 9.0).asDiagonal();
+    info.bottomRightCorner<3, 3>() =
+        Eigen::Vector3d(400.0, 25.0, 9.0).asDiagonal();
     Factor prior;
     ASSERT_TRUE(MakePriorSE3(Pose3Key(0), z, info, &prior, &error));
     ASSERT_GE(graph.AddFactor(prior), 0);
@@ -283,7 +294,9 @@ TEST(MarginalsTest, SinglePriorClosedForms) {
     expected.bottomRightCorner<3, 3>() =
         4.0 * info.bottomRightCorner<3, 3>().inverse();
     EXPECT_LT(RelativeDifference(cov[Pose3Key(0)], expected), 1e-9)
-        << "\ngot\n" << cov[Pose3Key(0)] << "\nexpected\n" << expected;
+        << "\ngot\n"
+        << cov[Pose3Key(0)] << "\nexpected\n"
+        << expected;
   }
   {
     Graph graph;
@@ -298,7 +311,9 @@ TEST(MarginalsTest, SinglePriorClosedForms) {
     ASSERT_TRUE(ComputeMarginals(&graph, {Pose2Key(0)}, &cov, &error)) << error;
     const Eigen::Matrix3d expected = info.inverse();
     EXPECT_LT(RelativeDifference(cov[Pose2Key(0)], expected), 1e-9)
-        << "\ngot\n" << cov[Pose2Key(0)] << "\nexpected\n" << expected;
+        << "\ngot\n"
+        << cov[Pose2Key(0)] << "\nexpected\n"
+        << expected;
   }
 }
 
@@ -327,8 +342,8 @@ TEST(MarginalsTest, EachComponentGetsItsOwnGauge) {
   ASSERT_EQ(anchors.size(), 2u);
   EXPECT_EQ(anchors[1], Pose2Key(10));
   std::map<Key, Eigen::MatrixXd> cov, cov_alone;
-  ASSERT_TRUE(ComputeMarginals(&graph, {Pose2Key(11), Pose2Key(2)}, &cov,
-                               &error))
+  ASSERT_TRUE(
+      ComputeMarginals(&graph, {Pose2Key(11), Pose2Key(2)}, &cov, &error))
       << error;
   ASSERT_TRUE(ComputeMarginals(&alone, {Pose2Key(11)}, &cov_alone, &error))
       << error;
@@ -352,7 +367,8 @@ TEST(MarginalsTest, IsolatedNodeIsRankDeficient) {
   graph.SetFixed(Pose3Key(50), true);
   graph.SetFixed(Pose3Key(0), true);
   error.clear();
-  ASSERT_TRUE(ComputeMarginals(&graph, {Pose3Key(50), Pose3Key(2)}, &cov, &error))
+  ASSERT_TRUE(
+      ComputeMarginals(&graph, {Pose3Key(50), Pose3Key(2)}, &cov, &error))
       << error;
   EXPECT_EQ(cov[Pose3Key(50)], Eigen::MatrixXd::Zero(6, 6));
   EXPECT_GT(cov[Pose3Key(2)].trace(), 0.0);
@@ -364,7 +380,8 @@ TEST(MarginalsTest, AbsentKeyIsReported) {
   BuildChain2(&rng, 4, &graph);
   std::map<Key, Eigen::MatrixXd> cov;
   std::string error;
-  EXPECT_FALSE(ComputeMarginals(&graph, {Pose2Key(1), Pose2Key(77)}, &cov, &error));
+  EXPECT_FALSE(
+      ComputeMarginals(&graph, {Pose2Key(1), Pose2Key(77)}, &cov, &error));
   EXPECT_NE(error.find(Pose2Key(77).ToString()), std::string::npos) << error;
 }
 
@@ -376,7 +393,8 @@ TEST(MarginalsTest, RepeatedKeyIsAnswered) {
   std::map<Key, Eigen::MatrixXd> once, twice;
   std::string error;
   ASSERT_TRUE(ComputeMarginals(&graph, {Pose2Key(3)}, &once, &error)) << error;
-  ASSERT_TRUE(ComputeMarginals(&graph, {Pose2Key(3), Pose2Key(3)}, &twice, &error))
+  ASSERT_TRUE(
+      ComputeMarginals(&graph, {Pose2Key(3), Pose2Key(3)}, &twice, &error))
       << error;
   EXPECT_LT(RelativeDifference(twice[Pose2Key(3)], once[Pose2Key(3)]), 1e-12);
 }

@@ -30,13 +30,13 @@
 namespace slam {
 namespace {
 
+using ::slam::testing::Contains;
 using ::slam::testing::DatasetPath;
+using ::slam::testing::Exists;
+using ::slam::testing::ReadText;
 using ::slam::testing::RunSlam;
 using ::slam::testing::TempDir;
-using ::slam::testing::ReadText;
 using ::slam::testing::WriteText;
-using ::slam::testing::Contains;
-using ::slam::testing::Exists;
 
 // Names of the entries of a directory.
 std::set<std::string> ListDir(const std::string& dir) {
@@ -94,8 +94,8 @@ class JsonParser {
 
  private:
   void SkipSpace() {
-    while (pos_ < text_.size() && std::isspace(static_cast<unsigned char>(
-                                      text_[pos_]))) {
+    while (pos_ < text_.size() &&
+           std::isspace(static_cast<unsigned char>(text_[pos_]))) {
       ++pos_;
     }
   }
@@ -257,10 +257,10 @@ std::string Simulated(const std::string& extra = "") {
   auto* dirs = SimulatedDirs();
   auto it = dirs->find(extra);
   if (it != dirs->end()) return it->second;
-  const std::string base = std::filesystem::temp_directory_path() /
-                           ("slam_test_optimize_sim_" +
-                            std::to_string(::getpid()) + "_" +
-                            std::to_string(dirs->size()));
+  const std::string base =
+      std::filesystem::temp_directory_path() /
+      ("slam_test_optimize_sim_" + std::to_string(::getpid()) + "_" +
+       std::to_string(dirs->size()));
   std::filesystem::remove_all(base);
   std::filesystem::create_directories(base);
   const std::string dir = base + "/sim";
@@ -282,10 +282,10 @@ TEST(OptimizeCommandTest, SimulatedGraphKnownAnswer) {
   const std::string tmp = TempDir();
   const std::string out = tmp + "/opt.g2o";
   const std::string report_path = tmp + "/r.json";
-  const SlamRun run = RunCaptured("optimize -i " + sim + "/graph.g2o -o " + out +
-                                  " --gt " + sim + "/ground_truth.tum" +
-                                  " --report " + report_path,
-                              tmp + "/logs");
+  const SlamRun run =
+      RunCaptured("optimize -i " + sim + "/graph.g2o -o " + out + " --gt " +
+                      sim + "/ground_truth.tum" + " --report " + report_path,
+                  tmp + "/logs");
   ASSERT_EQ(run.code, 0) << run.all();
   EXPECT_TRUE(Contains(run.out, "(converged)")) << run.out;
   EXPECT_TRUE(Contains(run.out, "wrote " + out)) << run.out;
@@ -320,7 +320,8 @@ TEST(OptimizeCommandTest, SimulatedGraphKnownAnswer) {
   const double initial = report.Number("initial_chi2");
   const double final_chi2 = report.Number("final_chi2");
   EXPECT_LE(final_chi2, initial);
-  EXPECT_LT(initial, report.Number("file_chi2"));  // Chordal beats dead reckoning.
+  EXPECT_LT(initial,
+            report.Number("file_chi2"));  // Chordal beats dead reckoning.
   const double dof = 3.0 * factors - 3.0 * (nodes - 1.0);
   const double sigma = std::sqrt(2.0 * dof);
   EXPECT_NEAR(final_chi2, dof, 5.0 * sigma)
@@ -362,10 +363,10 @@ TEST(OptimizeCommandTest, Simulated3dGraphKnownAnswer) {
   const std::string sim = Simulated("--world sphere3d --num_poses 300");
   const std::string tmp = TempDir();
   const std::string report_path = tmp + "/r.json";
-  const SlamRun run = RunCaptured("optimize --quiet -i " + sim + "/graph.g2o" +
-                                  " --gt " + sim + "/ground_truth.tum" +
-                                  " --report " + report_path,
-                              tmp + "/logs");
+  const SlamRun run =
+      RunCaptured("optimize --quiet -i " + sim + "/graph.g2o" + " --gt " + sim +
+                      "/ground_truth.tum" + " --report " + report_path,
+                  tmp + "/logs");
   ASSERT_EQ(run.code, 0) << run.all();
   const Json report = ReadReport(report_path);
   EXPECT_TRUE(report["converged"].boolean);
@@ -399,9 +400,9 @@ TEST_P(OptimizeBenchmarkTest, DefaultSettingsReachTheOptimum) {
   SLAM_REQUIRE_DATASET(path);
   const std::string tmp = TempDir();
   const std::string report_path = tmp + "/r.json";
-  const SlamRun run = RunCaptured(
-      "optimize --quiet -i " + path + " --report " + report_path,
-      tmp + "/logs");
+  const SlamRun run =
+      RunCaptured("optimize --quiet -i " + path + " --report " + report_path,
+                  tmp + "/logs");
   ASSERT_EQ(run.code, 0) << run.all();
   const Json report = ReadReport(report_path);
   const double final_chi2 = report.Number("final_chi2");
@@ -423,8 +424,7 @@ INSTANTIATE_TEST_SUITE_P(
                       Benchmark{"posegraph_3d/torus3D.g2o", 14574.7464388},
                       Benchmark{"posegraph_3d/parking-garage.g2o",
                                 1.23869057975},
-                      Benchmark{"posegraph_3d/smallGrid3D.g2o",
-                                458.153784299}),
+                      Benchmark{"posegraph_3d/smallGrid3D.g2o", 458.153784299}),
     [](const ::testing::TestParamInfo<Benchmark>& info) {
       std::string name = std::filesystem::path(info.param.file).stem().string();
       for (char& c : name) {
@@ -442,9 +442,9 @@ TEST(OptimizeCommandTest, MitFromTheFileGuessMissesTheOptimum) {
   const std::string tmp = TempDir();
   // Gauss-Newton from the file's guess: does not get near it (measured:
   // 6183.6 after the 100 allowed iterations, not converged).
-  SlamRun run = RunCaptured("optimize --quiet --init none --solver gn -i " + path +
-                            " --report " + tmp + "/gn.json",
-                        tmp + "/logs");
+  SlamRun run = RunCaptured("optimize --quiet --init none --solver gn -i " +
+                                path + " --report " + tmp + "/gn.json",
+                            tmp + "/logs");
   ASSERT_EQ(run.code, 0) << run.all();
   Json report = ReadReport(tmp + "/gn.json");
   EXPECT_EQ(report["init"].string, "none");
@@ -475,28 +475,28 @@ TEST(OptimizeCommandTest, MalformedInputFailsWithFileLineAndProblem) {
     const char* expected;  // In stderr after "FILE:".
   };
   const Case cases[] = {
-      {"bad_number", std::string(kGoodHead) +
-                         "EDGE_SE2 0 1 1 0 0 1 0 0 1 0 1\n"
-                         "EDGE_SE2 1 2 1 0 0x 1 0 0 1 0 1\n",
+      {"bad_number",
+       std::string(kGoodHead) + "EDGE_SE2 0 1 1 0 0 1 0 0 1 0 1\n"
+                                "EDGE_SE2 1 2 1 0 0x 1 0 0 1 0 1\n",
        ":6: bad number '0x'"},
-      {"missing_field", std::string(kGoodHead) +
-                            "\n# a comment\n"
-                            "EDGE_SE2 0 1 1 0 0 1 0 0 1 0\n",
+      {"missing_field",
+       std::string(kGoodHead) + "\n# a comment\n"
+                                "EDGE_SE2 0 1 1 0 0 1 0 0 1 0\n",
        ":7: EDGE_SE2 needs 11 fields after the tag, found 10"},
-      {"unknown_vertex", std::string(kGoodHead) +
-                             "EDGE_SE2 0 1 1 0 0 1 0 0 1 0 1\n"
-                             "EDGE_SE2 1 17 1 0 0 1 0 0 1 0 1\n",
+      {"unknown_vertex",
+       std::string(kGoodHead) + "EDGE_SE2 0 1 1 0 0 1 0 0 1 0 1\n"
+                                "EDGE_SE2 1 17 1 0 0 1 0 0 1 0 1\n",
        ":6: unknown vertex id 17"},
-      {"duplicate_vertex", std::string(kGoodHead) +
-                               "VERTEX_SE2 1 5 5 0\n"
-                               "EDGE_SE2 0 1 1 0 0 1 0 0 1 0 1\n",
+      {"duplicate_vertex",
+       std::string(kGoodHead) + "VERTEX_SE2 1 5 5 0\n"
+                                "EDGE_SE2 0 1 1 0 0 1 0 0 1 0 1\n",
        ":5: duplicate vertex id 1 (first defined at line 2)"},
-      {"non_pd_information", std::string(kGoodHead) +
-                                 "EDGE_SE2 0 1 1 0 0 1 0 0 1 0 1\n"
-                                 "EDGE_SE2 1 2 1 0 0 1 0 0 -1 0 1\n",
+      {"non_pd_information",
+       std::string(kGoodHead) + "EDGE_SE2 0 1 1 0 0 1 0 0 1 0 1\n"
+                                "EDGE_SE2 1 2 1 0 0 1 0 0 -1 0 1\n",
        ":6: information matrix is not positive definite"},
-      {"non_finite", std::string(kGoodHead) +
-                         "EDGE_SE2 0 1 nan 0 0 1 0 0 1 0 1\n",
+      {"non_finite",
+       std::string(kGoodHead) + "EDGE_SE2 0 1 nan 0 0 1 0 0 1 0 1\n",
        ":5: non-finite number 'nan'"},
   };
   for (const Case& c : cases) {
@@ -507,8 +507,8 @@ TEST(OptimizeCommandTest, MalformedInputFailsWithFileLineAndProblem) {
     const std::string input = work + "/" + std::string(c.name) + ".g2o";
     WriteText(input, c.text);
     const SlamRun run = RunCaptured("optimize -i " + input + " -o " + work +
-                                    "/out.g2o --report " + work + "/r.json",
-                                tmp + "/logs");
+                                        "/out.g2o --report " + work + "/r.json",
+                                    tmp + "/logs");
     EXPECT_NE(run.code, 0) << run.all();
     EXPECT_TRUE(Contains(run.err, input + c.expected)) << run.err;
     // Nothing written, not even a temporary file.
@@ -521,13 +521,12 @@ TEST(OptimizeCommandTest, MissingInputFileFails) {
   const std::string tmp = TempDir();
   const std::string work = tmp + "/work";
   std::filesystem::create_directories(work);
-  const SlamRun run = RunCaptured("optimize -i " + work + "/nothere.g2o -o " +
-                                  work + "/out.g2o --report " + work +
-                                  "/r.json",
-                              tmp + "/logs");
+  const SlamRun run =
+      RunCaptured("optimize -i " + work + "/nothere.g2o -o " + work +
+                      "/out.g2o --report " + work + "/r.json",
+                  tmp + "/logs");
   EXPECT_EQ(run.code, 1) << run.all();
-  EXPECT_TRUE(Contains(run.err, work + "/nothere.g2o: cannot open"))
-      << run.err;
+  EXPECT_TRUE(Contains(run.err, work + "/nothere.g2o: cannot open")) << run.err;
   EXPECT_TRUE(ListDir(work).empty());
 }
 
@@ -539,9 +538,10 @@ TEST(OptimizeCommandTest, FailedRunKeepsThePreviousOutput) {
   WriteText(work + "/out.g2o", "previous result\n");
   WriteText(work + "/r.json", "{}\n");
   WriteText(work + "/bad.g2o", std::string(kGoodHead) + "EDGE_SE2 0 1\n");
-  const SlamRun run = RunCaptured("optimize -i " + work + "/bad.g2o -o " + work +
-                                  "/out.g2o --report " + work + "/r.json",
-                              tmp + "/logs");
+  const SlamRun run =
+      RunCaptured("optimize -i " + work + "/bad.g2o -o " + work +
+                      "/out.g2o --report " + work + "/r.json",
+                  tmp + "/logs");
   EXPECT_EQ(run.code, 1) << run.all();
   EXPECT_TRUE(Contains(run.err, work + "/bad.g2o:5:")) << run.err;
   EXPECT_EQ(ReadText(work + "/out.g2o"), "previous result\n");
@@ -558,10 +558,10 @@ TEST(OptimizeCommandTest, RepairInformationAcceptsNonPositiveDefinite) {
                        "EDGE_SE2 0 1 1 0 0 1 0 0 -1 0 1\n"
                        "EDGE_SE2 1 2 1 0 0 1 0 0 1 0 1\n"
                        "EDGE_SE2 0 2 2 0 0 1 2 0 1 0 1\n");
-  const SlamRun run = RunCaptured("optimize --repair_information -i " + input +
-                                  " -o " + tmp + "/out.g2o --report " + tmp +
-                                  "/r.json",
-                              tmp + "/logs");
+  const SlamRun run =
+      RunCaptured("optimize --repair_information -i " + input + " -o " + tmp +
+                      "/out.g2o --report " + tmp + "/r.json",
+                  tmp + "/logs");
   ASSERT_EQ(run.code, 0) << run.all();
   EXPECT_TRUE(Contains(run.err, "repaired 2 information matrices")) << run.err;
   const Json report = ReadReport(tmp + "/r.json");
@@ -573,8 +573,8 @@ TEST(OptimizeCommandTest, RepairInformationAcceptsNonPositiveDefinite) {
   // the flag.
   Graph graph;
   std::string error;
-  EXPECT_TRUE(ReadG2o(tmp + "/out.g2o", GraphReadOptions(), &graph, nullptr,
-                      &error))
+  EXPECT_TRUE(
+      ReadG2o(tmp + "/out.g2o", GraphReadOptions(), &graph, nullptr, &error))
       << error;
   // Without the flag the same file fails at the first bad matrix.
   const SlamRun strict = RunCaptured("optimize -i " + input, tmp + "/logs");
@@ -631,8 +631,7 @@ TEST(OptimizeCommandTest, DumpConfigRoundTrips) {
        {"  function_tolerance: 9.9999999999999995e-08\n", "  num_threads: 1\n",
         "  initial_trust_region_radius: 1000.5\n", "    prior: huber:0.25\n",
         "    loop_closure: dcs:3\n", "    odometry: none\n"}) {
-    EXPECT_TRUE(Contains(file_values, line)) << line << " in\n"
-                                             << file_values;
+    EXPECT_TRUE(Contains(file_values, line)) << line << " in\n" << file_values;
   }
   ASSERT_EQ(RunSlam("optimize --config " + tmp + "/f.yaml --dump_config > " +
                     tmp + "/g.yaml"),
@@ -647,12 +646,12 @@ TEST(OptimizeCommandTest, FlagsOverrideTheConfigFile) {
             "  max_iterations: 9\n  robust:\n    odometry: huber:1\n"
             "    prior: cauchy:2\n");
   const SlamRun run = RunCaptured("optimize --config " + tmp +
-                                  "/c.yaml --solver gn --robust dcs:4"
-                                  " --dump_config",
-                              tmp + "/logs");
+                                      "/c.yaml --solver gn --robust dcs:4"
+                                      " --dump_config",
+                                  tmp + "/logs");
   ASSERT_EQ(run.code, 0) << run.all();
-  EXPECT_TRUE(Contains(run.out, "  solver: gn\n")) << run.out;      // Flag.
-  EXPECT_TRUE(Contains(run.out, "  init: chordal\n")) << run.out;   // File.
+  EXPECT_TRUE(Contains(run.out, "  solver: gn\n")) << run.out;     // Flag.
+  EXPECT_TRUE(Contains(run.out, "  init: chordal\n")) << run.out;  // File.
   EXPECT_TRUE(Contains(run.out, "  max_iterations: 9\n")) << run.out;
   EXPECT_TRUE(Contains(run.out, "    odometry: dcs:4\n")) << run.out;
   EXPECT_TRUE(Contains(run.out, "    loop_closure: dcs:4\n")) << run.out;
@@ -660,11 +659,11 @@ TEST(OptimizeCommandTest, FlagsOverrideTheConfigFile) {
 
   // And in a real run: the report names what was used.
   const std::string sim = Simulated();
-  const SlamRun opt = RunCaptured("optimize --quiet --config " + tmp +
-                                  "/c.yaml --solver gn --max_iterations 50 -i " +
-                                  sim + "/graph.g2o --report " + tmp +
-                                  "/r.json",
-                              tmp + "/logs");
+  const SlamRun opt =
+      RunCaptured("optimize --quiet --config " + tmp +
+                      "/c.yaml --solver gn --max_iterations 50 -i " + sim +
+                      "/graph.g2o --report " + tmp + "/r.json",
+                  tmp + "/logs");
   ASSERT_EQ(opt.code, 0) << opt.all();
   const Json report = ReadReport(tmp + "/r.json");
   EXPECT_EQ(report["solver"].string, "gn");
@@ -699,8 +698,8 @@ TEST(OptimizeCommandTest, BadConfigFilesFailNamingFileAndKey) {
     WriteText(path, c.yaml);
     // Both with --dump_config (no YAML printed) and in a real run (nothing
     // written).
-    SlamRun run = RunCaptured("optimize --dump_config --config " + path,
-                          tmp + "/logs");
+    SlamRun run =
+        RunCaptured("optimize --dump_config --config " + path, tmp + "/logs");
     EXPECT_EQ(run.code, 2) << run.all();
     EXPECT_TRUE(Contains(run.err, path + c.expected)) << run.err;
     EXPECT_TRUE(run.out.empty()) << run.out;
@@ -713,14 +712,14 @@ TEST(OptimizeCommandTest, BadConfigFilesFailNamingFileAndKey) {
     EXPECT_FALSE(Exists(tmp + "/out.g2o"));
     EXPECT_FALSE(Exists(tmp + "/r.json"));
   }
-  const SlamRun missing =
-      RunCaptured("optimize --dump_config --config " + tmp + "/none.yaml",
-                  tmp + "/logs");
+  const SlamRun missing = RunCaptured(
+      "optimize --dump_config --config " + tmp + "/none.yaml", tmp + "/logs");
   EXPECT_EQ(missing.code, 2);
   EXPECT_TRUE(Contains(missing.err, tmp + "/none.yaml: no such file"))
       << missing.err;
   // Bad flag values.
-  SlamRun flag = RunCaptured("optimize --dump_config --solver foo", tmp + "/logs");
+  SlamRun flag =
+      RunCaptured("optimize --dump_config --solver foo", tmp + "/logs");
   EXPECT_EQ(flag.code, 2);
   EXPECT_TRUE(Contains(flag.err, "--solver 'foo'")) << flag.err;
   flag = RunCaptured("optimize --dump_config --init foo", tmp + "/logs");
@@ -756,8 +755,8 @@ TEST(OptimizeCommandTest, EveryBadConfigValueNamesTheFile) {
     SCOPED_TRACE(c[0]);
     const std::string path = tmp + "/bad" + std::to_string(index++) + ".yaml";
     WriteText(path, c[0]);
-    const SlamRun run = RunCaptured("optimize --dump_config --config " + path,
-                                tmp + "/logs");
+    const SlamRun run =
+        RunCaptured("optimize --dump_config --config " + path, tmp + "/logs");
     EXPECT_EQ(run.code, 2) << run.all();
     EXPECT_TRUE(Contains(run.err, path)) << run.err;
     EXPECT_TRUE(Contains(run.err, c[1])) << run.err;
@@ -773,8 +772,8 @@ TEST(OptimizeCommandTest, OneConfigFileServesEveryCommand) {
             "  verbose: false\n"
             "eval:\n  align: origin\n");
   const std::string dir = tmp + "/sim";
-  SlamRun run = RunCaptured("simulate --config " + config + " -o " + dir,
-                        tmp + "/logs");
+  SlamRun run =
+      RunCaptured("simulate --config " + config + " -o " + dir, tmp + "/logs");
   ASSERT_EQ(run.code, 0) << run.all();
   EXPECT_TRUE(Contains(run.out, "80 poses")) << run.out;
   run = RunCaptured("optimize --config " + config + " -i " + dir +
@@ -809,9 +808,10 @@ TEST(OptimizeCommandTest, EveryInitAndSolverReachTheSameOptimum) {
   const std::string tmp = TempDir();
   auto optimize = [&](const std::string& args, const std::string& name) {
     const std::string report = tmp + "/" + name + ".json";
-    const SlamRun run = RunCaptured("optimize --quiet -i " + sim + "/graph.g2o " +
-                                    args + " --report " + report,
-                                tmp + "/logs");
+    const SlamRun run =
+        RunCaptured("optimize --quiet -i " + sim + "/graph.g2o " + args +
+                        " --report " + report,
+                    tmp + "/logs");
     EXPECT_EQ(run.code, 0) << args << "\n" << run.all();
     return ReadReport(report);
   };
@@ -864,16 +864,17 @@ TEST(OptimizeCommandTest, EveryInitAndSolverReachTheSameOptimum) {
 TEST(OptimizeCommandTest, MarginalsPrintedAndReported) {
   const std::string sim = Simulated();
   const std::string tmp = TempDir();
-  const SlamRun run = RunCaptured("optimize --quiet -i " + sim +
-                                  "/graph.g2o --marginals 0,5 --report " +
-                                  tmp + "/r.json",
-                              tmp + "/logs");
+  const SlamRun run =
+      RunCaptured("optimize --quiet -i " + sim +
+                      "/graph.g2o --marginals 0,5 --report " + tmp + "/r.json",
+                  tmp + "/logs");
   ASSERT_EQ(run.code, 0) << run.all();
   EXPECT_TRUE(Contains(run.out, "marginal covariances")) << run.out;
   EXPECT_TRUE(Contains(run.out, "  node 0:\n")) << run.out;
   EXPECT_TRUE(Contains(run.out, "  node 5:\n")) << run.out;
   const Json report = ReadReport(tmp + "/r.json");
-  ASSERT_EQ(report["marginals"].kind, Json::kObject) << ReadText(tmp + "/r.json");
+  ASSERT_EQ(report["marginals"].kind, Json::kObject)
+      << ReadText(tmp + "/r.json");
   const Json& marginals = report["marginals"];
   EXPECT_EQ(marginals.object.size(), 2u);
 
@@ -887,7 +888,8 @@ TEST(OptimizeCommandTest, MarginalsPrintedAndReported) {
   // heading errors, 5e-4 rad^2). Measured: 2.6e-3 m^2, 9.6e-5 rad^2.
   ASSERT_EQ(marginals["5"].array.size(), 9u);
   Eigen::Matrix3d cov;
-  for (int k = 0; k < 9; ++k) cov(k / 3, k % 3) = marginals["5"].array[k].number;
+  for (int k = 0; k < 9; ++k)
+    cov(k / 3, k % 3) = marginals["5"].array[k].number;
   EXPECT_LT((cov - cov.transpose()).norm(), 1e-12 * cov.norm()) << cov;
   Eigen::LLT<Eigen::Matrix3d> llt(cov);
   EXPECT_EQ(llt.info(), Eigen::Success) << cov;
@@ -908,8 +910,7 @@ TEST(OptimizeCommandTest, MarginalsPrintedAndReported) {
   for (int k = 0; k < 9; ++k) {
     double v = NAN;
     printed >> v;
-    EXPECT_NEAR(v, cov(k / 3, k % 3), 1e-6 * std::abs(cov(k / 3, k % 3)))
-        << k;
+    EXPECT_NEAR(v, cov(k / 3, k % 3), 1e-6 * std::abs(cov(k / 3, k % 3))) << k;
   }
 }
 
@@ -919,9 +920,9 @@ TEST(OptimizeCommandTest, MarginalsOfUnknownNodeFail) {
   const std::string work = tmp + "/work";
   std::filesystem::create_directories(work);
   SlamRun run = RunCaptured("optimize --quiet -i " + sim +
-                            "/graph.g2o --marginals 0,99999 -o " + work +
-                            "/out.g2o --report " + work + "/r.json",
-                        tmp + "/logs");
+                                "/graph.g2o --marginals 0,99999 -o " + work +
+                                "/out.g2o --report " + work + "/r.json",
+                            tmp + "/logs");
   EXPECT_EQ(run.code, 1) << run.all();
   EXPECT_TRUE(Contains(run.err, "marginals")) << run.err;
   EXPECT_TRUE(Contains(run.err, "99999")) << run.err;
@@ -945,9 +946,8 @@ TEST(OptimizeCommandTest, MarginalsOfUnknownNodeFail) {
 TEST(OptimizeCommandTest, MarginalsOfUnknownNodeNameTheRightKind) {
   const std::string sim = Simulated();
   const std::string tmp = TempDir();
-  const SlamRun run = RunCaptured("optimize -i " + sim +
-                                  "/graph.g2o --marginals 99999",
-                              tmp + "/logs");
+  const SlamRun run = RunCaptured(
+      "optimize -i " + sim + "/graph.g2o --marginals 99999", tmp + "/logs");
   EXPECT_NE(run.code, 0);
   EXPECT_TRUE(Contains(run.err, "99999")) << run.err;
   EXPECT_FALSE(Contains(run.err, "pose3")) << run.err;
@@ -963,11 +963,10 @@ TEST(OptimizeCommandTest, RobustKernelDefeatsOutliers) {
   const std::string tmp = TempDir();
   auto ape = [&](const std::string& args, const std::string& name) {
     const std::string report = tmp + "/" + name + ".json";
-    const SlamRun run = RunCaptured("optimize --quiet -i " + sim +
-                                    "/graph.g2o --gt " + sim +
-                                    "/ground_truth.tum --report " + report +
-                                    " " + args,
-                                tmp + "/logs");
+    const SlamRun run =
+        RunCaptured("optimize --quiet -i " + sim + "/graph.g2o --gt " + sim +
+                        "/ground_truth.tum --report " + report + " " + args,
+                    tmp + "/logs");
     EXPECT_EQ(run.code, 0) << run.all();
     return ReadReport(report)["evaluation"]["ape_translation"].Number("rmse");
   };
@@ -978,8 +977,7 @@ TEST(OptimizeCommandTest, RobustKernelDefeatsOutliers) {
   EXPECT_GT(plain, 1.0);
   EXPECT_GT(plain, 5.0 * robust);
   // The same through the config file, on the loop closures only.
-  WriteText(tmp + "/c.yaml",
-            "optimize:\n  robust:\n    loop_closure: dcs:1\n");
+  WriteText(tmp + "/c.yaml", "optimize:\n  robust:\n    loop_closure: dcs:1\n");
   const double from_config = ape("--config " + tmp + "/c.yaml", "config");
   EXPECT_LT(from_config, 0.3);
 }
@@ -993,9 +991,9 @@ TEST(OptimizeCommandTest, UsageErrors) {
   EXPECT_EQ(run.code, 2);
   EXPECT_TRUE(Contains(run.err, "no input")) << run.err;
   EXPECT_TRUE(Contains(run.err, "usage: slam optimize -i IN")) << run.err;
-  run = RunCaptured("optimize -o " + tmp + "/out.g2o --report " + tmp +
-                        "/r.json",
-                    tmp + "/logs");
+  run =
+      RunCaptured("optimize -o " + tmp + "/out.g2o --report " + tmp + "/r.json",
+                  tmp + "/logs");
   EXPECT_EQ(run.code, 2);
   EXPECT_FALSE(Exists(tmp + "/out.g2o"));
   EXPECT_FALSE(Exists(tmp + "/r.json"));
@@ -1023,9 +1021,8 @@ TEST(OptimizeCommandTest, UsageErrors) {
 TEST(OptimizeCommandTest, ExtraArgumentsAreRefused) {
   const std::string sim = Simulated();
   const std::string tmp = TempDir();
-  const SlamRun run = RunCaptured("optimize --quiet -i " + sim +
-                                  "/graph.g2o extra.g2o",
-                              tmp + "/logs");
+  const SlamRun run = RunCaptured(
+      "optimize --quiet -i " + sim + "/graph.g2o extra.g2o", tmp + "/logs");
   EXPECT_EQ(run.code, 2) << run.all();
   EXPECT_TRUE(Contains(run.err, "extra.g2o")) << run.err;
 }

@@ -68,13 +68,14 @@ std::map<int64_t, Pose2> BuildGraph2(const Graph2Spec& spec, Graph* graph) {
     }
   }
   for (const auto& [i, pose] : gt) {
-    graph->AddNode(Pose2Key(i), Pose2Value(pose * Noise2(&rng, spec.init_t,
-                                                           spec.init_r)));
+    graph->AddNode(Pose2Key(i),
+                   Pose2Value(pose * Noise2(&rng, spec.init_t, spec.init_r)));
   }
   Eigen::Matrix3d info;
-  info << 1 / (spec.sigma_t * spec.sigma_t), 0.2 / (spec.sigma_t * spec.sigma_t), 0.0,
-      0.2 / (spec.sigma_t * spec.sigma_t), 1 / (spec.sigma_t * spec.sigma_t), 0.0, 0.0,
-      0.0, 1 / (spec.sigma_r * spec.sigma_r);
+  info << 1 / (spec.sigma_t * spec.sigma_t),
+      0.2 / (spec.sigma_t * spec.sigma_t), 0.0,
+      0.2 / (spec.sigma_t * spec.sigma_t), 1 / (spec.sigma_t * spec.sigma_t),
+      0.0, 0.0, 0.0, 1 / (spec.sigma_r * spec.sigma_r);
   auto add = [&](int64_t i, int64_t j) {
     const Pose2 z = gt.at(i).Inverse() * gt.at(j) *
                     Noise2(&rng, spec.sigma_t, spec.sigma_r);
@@ -85,28 +86,32 @@ std::map<int64_t, Pose2> BuildGraph2(const Graph2Spec& spec, Graph* graph) {
   };
   for (int64_t i = 0; i + 1 < id; ++i) add(i, i + 1);
   for (int r = 0; r + 1 < spec.rows; ++r) {
-    for (int c = 0; c < spec.cols; c += 2) add(id_at[{r, c}], id_at[{r + 1, c}]);
+    for (int c = 0; c < spec.cols; c += 2)
+      add(id_at[{r, c}], id_at[{r + 1, c}]);
   }
   return gt;
 }
 
 // A 3D helix of two turns with loop closures between the turns.
 std::map<int64_t, Pose3> BuildGraph3(unsigned seed, int per_turn, Graph* graph,
-                                     double init_t = 0.2, double init_r = 0.05) {
+                                     double init_t = 0.2,
+                                     double init_r = 0.05) {
   Rng rng(seed);
   std::map<int64_t, Pose3> gt;
   const int n = 2 * per_turn;
   for (int k = 0; k < n; ++k) {
     const double a = 2.0 * M_PI * k / per_turn;
-    const Eigen::Quaterniond q =
-        Eigen::Quaterniond(Eigen::AngleAxisd(a + M_PI / 2, Eigen::Vector3d::UnitZ())) *
-        QuaternionExp<double>(0.2 * rng.Normal3());
-    gt[k] = Pose3(Eigen::Vector3d(10 * std::cos(a), 10 * std::sin(a), 0.5 * k / per_turn) +
+    const Eigen::Quaterniond q = Eigen::Quaterniond(Eigen::AngleAxisd(
+                                     a + M_PI / 2, Eigen::Vector3d::UnitZ())) *
+                                 QuaternionExp<double>(0.2 * rng.Normal3());
+    gt[k] = Pose3(Eigen::Vector3d(10 * std::cos(a), 10 * std::sin(a),
+                                  0.5 * k / per_turn) +
                       0.1 * rng.Normal3(),
                   q);
   }
   for (const auto& [i, pose] : gt) {
-    graph->AddNode(Pose3Key(i), Pose3Value(pose * Noise3(&rng, init_t, init_r)));
+    graph->AddNode(Pose3Key(i),
+                   Pose3Value(pose * Noise3(&rng, init_t, init_r)));
   }
   const double st = 0.05, sr = 0.01;
   Matrix6d info = Matrix6d::Zero();
@@ -155,8 +160,8 @@ double CeresCost(const Graph& graph, bool use_loss) {
 // ---------------------------------------------------------------------------
 
 TEST(SolverKindTest, NamesRoundTrip) {
-  for (SolverKind k : {SolverKind::kLevenbergMarquardt, SolverKind::kGaussNewton,
-                       SolverKind::kDogleg}) {
+  for (SolverKind k : {SolverKind::kLevenbergMarquardt,
+                       SolverKind::kGaussNewton, SolverKind::kDogleg}) {
     SolverKind parsed = SolverKind::kDogleg;
     ASSERT_TRUE(ParseSolverKind(SolverKindName(k), &parsed));
     EXPECT_EQ(parsed, k);
@@ -229,8 +234,8 @@ TEST(OptimizerTest, DefaultOptionsConverge) {
 
 TEST(OptimizerTest, LinearSolversAgree) {
   double ref = -1.0;
-  for (const std::string solver :
-       {"auto", "sparse_normal_cholesky", "dense_qr", "dense_normal_cholesky"}) {
+  for (const std::string solver : {"auto", "sparse_normal_cholesky", "dense_qr",
+                                   "dense_normal_cholesky"}) {
     Graph graph;
     BuildGraph3(3, 20, &graph);
     OptimizerOptions options = Tight(SolverKind::kLevenbergMarquardt);
@@ -248,7 +253,8 @@ TEST(OptimizerTest, EliminationOrderingsAgree) {
   // gives the same optimum.
   for (bool with_fixed : {false, true}) {
     double ref = -1.0;
-    for (const std::string ordering : {"auto", "ceres", "amd", "metis", "nesdis"}) {
+    for (const std::string ordering :
+         {"auto", "ceres", "amd", "metis", "nesdis"}) {
       Graph graph;
       BuildGraph3(7, 20, &graph);
       if (with_fixed) graph.SetFixed(Pose3Key(11), true);
@@ -291,7 +297,8 @@ TEST(OptimizerGaugeTest, FirstNodeHeldWhenNothingFixedAndNoPrior) {
       EXPECT_EQ(graph.nodes().begin()->second->value, first);
       EXPECT_NE(graph.FindNode(Pose2Key(20))->value, other);
       EXPECT_NE(s.gauge.find("first node"), std::string::npos) << s.gauge;
-      EXPECT_NE(s.gauge.find(Pose2Key(0).ToString()), std::string::npos) << s.gauge;
+      EXPECT_NE(s.gauge.find(Pose2Key(0).ToString()), std::string::npos)
+          << s.gauge;
     }
     {
       Graph graph;
@@ -324,8 +331,8 @@ TEST(OptimizerGaugeTest, PriorsAreTheGauge) {
   const auto gt = BuildGraph2(Graph2Spec(), &graph);
   Factor prior;
   std::string error;
-  ASSERT_TRUE(MakePriorSE2(Pose2Key(10), gt.at(10), 1e4 * Eigen::Matrix3d::Identity(),
-                           &prior, &error));
+  ASSERT_TRUE(MakePriorSE2(Pose2Key(10), gt.at(10),
+                           1e4 * Eigen::Matrix3d::Identity(), &prior, &error));
   ASSERT_GE(graph.AddFactor(prior), 0);
   const auto before = Values(graph);
   const OptimizerSummary s =

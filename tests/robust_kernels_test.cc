@@ -54,7 +54,7 @@ double Kink(const std::string& kind, double width) {
 }
 
 TEST(RobustKernelsTest, DerivativesMatchCentralDifferences) {
-  const std::vector<double> s_values = {1e-4, 0.01, 0.07, 0.3, 0.8, 1.7,
+  const std::vector<double> s_values = {1e-4, 0.01, 0.07, 0.3,   0.8,   1.7,
                                         4.0,  9.5,  30.0, 150.0, 2000.0};
   for (const std::string& kind : Kinds()) {
     for (double width : Widths()) {
@@ -127,8 +127,10 @@ TEST(RobustKernelsTest, HuberAndCauchyAreCeresKernels) {
       const Rho expected_h = Eval(huber, s), got_h = Eval(*h, s);
       const Rho expected_c = Eval(cauchy, s), got_c = Eval(*c, s);
       for (int k = 0; k < 3; ++k) {
-        EXPECT_NEAR(got_h.v[k], expected_h.v[k], 1e-9 * (1 + std::abs(expected_h.v[k])));
-        EXPECT_NEAR(got_c.v[k], expected_c.v[k], 1e-9 * (1 + std::abs(expected_c.v[k])));
+        EXPECT_NEAR(got_h.v[k], expected_h.v[k],
+                    1e-9 * (1 + std::abs(expected_h.v[k])));
+        EXPECT_NEAR(got_c.v[k], expected_c.v[k],
+                    1e-9 * (1 + std::abs(expected_c.v[k])));
       }
     }
     // Huber: quadratic up to a^2 (width in whitened-residual units).
@@ -162,9 +164,10 @@ TEST(DcsLossTest, DocumentedShape) {
       previous = r.v[0];
     }
     EXPECT_NEAR(Eval(loss, 1e12 * phi).v[0], 3.0 * phi, 1e-9 * phi);
-    // IRLS weight rho'(s) = min(1, 2 phi / (phi + s))^2 (the DCS scale squared).
-    for (double s : {0.0, 0.3 * phi, phi, 1.01 * phi, 2.0 * phi, 7.0 * phi,
-                     123.0 * phi}) {
+    // IRLS weight rho'(s) = min(1, 2 phi / (phi + s))^2 (the DCS scale
+    // squared).
+    for (double s :
+         {0.0, 0.3 * phi, phi, 1.01 * phi, 2.0 * phi, 7.0 * phi, 123.0 * phi}) {
       const double scale = std::min(1.0, 2.0 * phi / (phi + s));
       EXPECT_NEAR(Eval(loss, s).v[1], scale * scale, 1e-14)
           << "phi=" << phi << " s=" << s;
@@ -202,8 +205,8 @@ TEST(RobustKernelSpecTest, ParsesValidSpecifications) {
   EXPECT_EQ(MakeLoss(spec), nullptr);
 
   // ToString round-trips.
-  for (const std::string text : {"huber:1.5", "dcs:2", "cauchy:0.25",
-                                 "geman_mcclure:7"}) {
+  for (const std::string text :
+       {"huber:1.5", "dcs:2", "cauchy:0.25", "geman_mcclure:7"}) {
     ASSERT_TRUE(ParseRobustKernel(text, &spec, &error)) << error;
     RobustKernelSpec again;
     ASSERT_TRUE(ParseRobustKernel(spec.ToString(), &again, &error)) << error;
@@ -215,15 +218,15 @@ TEST(RobustKernelSpecTest, ParsesValidSpecifications) {
 TEST(RobustKernelSpecTest, RejectsInvalidSpecifications) {
   for (const std::string text :
        {"foo:1", "foo", "huber:-1", "huber:x", "huber:", "huber:0",
-        "huber:1.5x", "huber:nan", "huber:inf", "huber:1e400", "Huber:1",
-        "", ":1", "dcs:-0.5", "cauchy: "}) {
+        "huber:1.5x", "huber:nan", "huber:inf", "huber:1e400", "Huber:1", "",
+        ":1", "dcs:-0.5", "cauchy: "}) {
     RobustKernelSpec spec;
     spec.kind = "sentinel";
     std::string error;
     EXPECT_FALSE(ParseRobustKernel(text, &spec, &error)) << "'" << text << "'";
     EXPECT_FALSE(error.empty()) << "'" << text << "'";
-    EXPECT_EQ(spec.kind, "sentinel") << "spec modified on failure: '" << text
-                                     << "'";
+    EXPECT_EQ(spec.kind, "sentinel")
+        << "spec modified on failure: '" << text << "'";
   }
   // The messages say what is wrong.
   RobustKernelSpec spec;

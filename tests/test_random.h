@@ -39,10 +39,10 @@ class TestRng {
                  Uniform(-M_PI, M_PI));
   }
   Pose3 RandomPose3(double extent = 20.0) {
-    return Pose3(Eigen::Vector3d(Uniform(-extent, extent),
-                                 Uniform(-extent, extent),
-                                 Uniform(-extent, extent)),
-                 Quaternion());
+    return Pose3(
+        Eigen::Vector3d(Uniform(-extent, extent), Uniform(-extent, extent),
+                        Uniform(-extent, extent)),
+        Quaternion());
   }
   // scale * (A A^T + I) with A standard normal: symmetric positive definite
   // with off-diagonal terms.

@@ -3,12 +3,12 @@
 #ifndef SLAM_TESTS_TEST_UTIL_H_
 #define SLAM_TESTS_TEST_UTIL_H_
 
+#include <sys/wait.h>
+#include <unistd.h>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
-#include <sys/wait.h>
-#include <unistd.h>
 #include <string>
 
 #include "gtest/gtest.h"
@@ -18,7 +18,8 @@ namespace slam::testing {
 // $SLAM_DATASETS, else ../shared/datasets beside the checkout.
 inline std::string DatasetsDir() {
   const char* env = std::getenv("SLAM_DATASETS");
-  return env != nullptr ? std::string(env) : std::string(SLAM_DEFAULT_DATASETS_DIR);
+  return env != nullptr ? std::string(env)
+                        : std::string(SLAM_DEFAULT_DATASETS_DIR);
 }
 
 inline std::string DatasetPath(const std::string& relative) {
@@ -39,10 +40,10 @@ inline std::string ConfigPath(const std::string& name) {
 inline std::string TempDir() {
   const ::testing::TestInfo* info =
       ::testing::UnitTest::GetInstance()->current_test_info();
-  std::filesystem::path dir = std::filesystem::temp_directory_path() /
-                              ("slam_test_" + std::string(info->test_suite_name()) +
-                               "_" + info->name() + "_" +
-                               std::to_string(::getpid()));
+  std::filesystem::path dir =
+      std::filesystem::temp_directory_path() /
+      ("slam_test_" + std::string(info->test_suite_name()) + "_" +
+       info->name() + "_" + std::to_string(::getpid()));
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir.string();
@@ -81,12 +82,12 @@ inline int RunSlam(const std::string& args, const std::string& log = "") {
 }  // namespace slam::testing
 
 // Skips the current test with a message when a real-data file is absent.
-#define SLAM_REQUIRE_DATASET(path)                                         \
-  do {                                                                     \
-    if (!std::filesystem::exists(path)) {                                  \
-      GTEST_SKIP() << "dataset not found: " << (path)                      \
+#define SLAM_REQUIRE_DATASET(path)                                          \
+  do {                                                                      \
+    if (!std::filesystem::exists(path)) {                                   \
+      GTEST_SKIP() << "dataset not found: " << (path)                       \
                    << " (set SLAM_DATASETS to the shared datasets folder)"; \
-    }                                                                      \
+    }                                                                       \
   } while (0)
 
 #endif  // SLAM_TESTS_TEST_UTIL_H_

@@ -24,8 +24,8 @@ namespace {
 
 using ::slam::testing::DatasetPath;
 using ::slam::testing::FixturePath;
-using ::slam::testing::TempDir;
 using ::slam::testing::ReadText;
+using ::slam::testing::TempDir;
 
 std::string WriteText(const std::string& path, const std::string& text) {
   std::ofstream out(path, std::ios::binary);
@@ -49,8 +49,8 @@ void ExpectSameGraph(const Graph& a, const Graph& b,
                          const std::string& what) {
     const int exact = is3 ? 3 : n;
     for (int k = 0; k < exact; ++k) {
-      EXPECT_EQ(Bits(x[k]), Bits(y[k])) << what << " " << k << ": " << x[k]
-                                        << " vs " << y[k];
+      EXPECT_EQ(Bits(x[k]), Bits(y[k]))
+          << what << " " << k << ": " << x[k] << " vs " << y[k];
     }
     if (is3) {
       const Eigen::Quaterniond qx(x[6], x[3], x[4], x[5]);
@@ -227,8 +227,8 @@ TEST(ToroIoTest, RoundTrip2dWithFixedNodesIsExact) {
   const std::string dir = TempDir();
   Graph graph;
   std::string error;
-  ASSERT_TRUE(ReadToro(FixturePath("toro_2d.graph"), {}, &graph, nullptr,
-                       &error))
+  ASSERT_TRUE(
+      ReadToro(FixturePath("toro_2d.graph"), {}, &graph, nullptr, &error))
       << error;
   graph.SetFixed(Pose2Key(1), true);
   // A value that needs 17 digits.
@@ -255,8 +255,8 @@ TEST(ToroIoTest, RoundTrip2dWithFixedNodesIsExact) {
 TEST(ToroIoTest, Vertex3UsesRzRyRxEulerAngles) {
   Graph graph;
   std::string error;
-  ASSERT_TRUE(ReadToro(FixturePath("toro_3d.graph"), {}, &graph, nullptr,
-                       &error))
+  ASSERT_TRUE(
+      ReadToro(FixturePath("toro_3d.graph"), {}, &graph, nullptr, &error))
       << error;
   ASSERT_EQ(graph.NumNodes(), 3u);
   const Pose3 x1 = NodePose3(*graph.FindNode(Pose3Key(1)));
@@ -283,8 +283,8 @@ TEST(ToroIoTest, Vertex3UsesRzRyRxEulerAngles) {
 TEST(ToroIoTest, Edge3InformationIsConvertedToQuaternionVectorUnits) {
   Graph graph;
   std::string error;
-  ASSERT_TRUE(ReadToro(FixturePath("toro_3d.graph"), {}, &graph, nullptr,
-                       &error))
+  ASSERT_TRUE(
+      ReadToro(FixturePath("toro_3d.graph"), {}, &graph, nullptr, &error))
       << error;
   const std::vector<const Factor*> f = Factors(graph);
   ASSERT_EQ(f.size(), 2u);
@@ -321,10 +321,9 @@ TEST(ToroIoTest, Edge3Chi2MatchesHogmanChi2ForSmallErrors) {
   const double v[3][6] = {{0, 0, 0, 0, 0, 0},
                           {1.001, 0.2, -0.1, 0.101, -0.2, 0.3005},
                           {2.0, 0.5, 0.3, 0.2, 0.1, -0.4}};
-  const double z[2][6] = {
-      {1.0, 0.2, -0.1, 0.1, -0.2, 0.3},
-      {1.100709292, 0.009535239, 0.184788297, -0.007538875, 0.184070889,
-       -0.741437442}};
+  const double z[2][6] = {{1.0, 0.2, -0.1, 0.1, -0.2, 0.3},
+                          {1.100709292, 0.009535239, 0.184788297, -0.007538875,
+                           0.184070889, -0.741437442}};
   auto isometry = [](const double* p) {
     Eigen::Isometry3d x = Eigen::Isometry3d::Identity();
     x.linear() = HogmanRotation(p[3], p[4], p[5]);
@@ -359,15 +358,14 @@ TEST(ToroIoTest, RoundTrip3d) {
   const std::string dir = TempDir();
   Graph graph;
   std::string error;
-  ASSERT_TRUE(ReadToro(FixturePath("toro_3d.graph"), {}, &graph, nullptr,
-                       &error))
+  ASSERT_TRUE(
+      ReadToro(FixturePath("toro_3d.graph"), {}, &graph, nullptr, &error))
       << error;
   graph.SetFixed(Pose3Key(0), true);
   ASSERT_TRUE(WriteToro(dir + "/out.graph", graph, &error)) << error;
   const std::string text = ReadText(dir + "/out.graph");
-  EXPECT_EQ(text.rfind("VERTEX3 0 0 0 0 0 0 0\nVERTEX3 1 1.0009999999999999 ",
-                       0),
-            0u)
+  EXPECT_EQ(
+      text.rfind("VERTEX3 0 0 0 0 0 0 0\nVERTEX3 1 1.0009999999999999 ", 0), 0u)
       << text;
   // The information goes back to the file's units.
   EXPECT_NE(text.find(" 100 1 2 3 4 5 200 6 7 8 9 300 10 11 12 400 13 14 500 "
@@ -397,8 +395,7 @@ TEST(ToroIoTest, RoundTrip3d) {
 TEST(ToroIoTest, MalformedInputFailsWithFileLineAndProblem) {
   const std::string dir = TempDir();
   const std::string v2 = "VERTEX2 0 0 0 0\nVERTEX2 1 1 0 0\n";
-  const std::string info21 =
-      " 1 0 0 0 0 0 1 0 0 0 0 1 0 0 0 1 0 0 1 0 1\n";
+  const std::string info21 = " 1 0 0 0 0 0 1 0 0 0 0 1 0 0 0 1 0 0 1 0 1\n";
   const struct {
     const char* name;
     std::string text;
@@ -419,13 +416,15 @@ TEST(ToroIoTest, MalformedInputFailsWithFileLineAndProblem) {
       // I22 = -1 in TORO order (it would be I13 in g2o order).
       {"not_pd", v2 + "EDGE2 0 1 1 0 0 1 0 -1 1 0 0\n", 3,
        "information matrix is not positive definite"},
-      {"edge3_missing", "VERTEX3 0 0 0 0 0 0 0\nVERTEX3 1 0 0 0 0 0 0\n"
-                        "EDGE3 0 1 1 0 0 0 0 0 1 0 0\n",
+      {"edge3_missing",
+       "VERTEX3 0 0 0 0 0 0 0\nVERTEX3 1 0 0 0 0 0 0\n"
+       "EDGE3 0 1 1 0 0 0 0 0 1 0 0\n",
        3, "EDGE3 needs 29 fields after the tag, found 11 (missing fields)"},
       {"fix_unknown", v2 + "FIX 3\n", 3, "FIX of unknown vertex id 3"},
-      {"edge3_not_pd", "VERTEX3 0 0 0 0 0 0 0\nVERTEX3 1 0 0 0 0 0 0\n"
-                       "EDGE3 0 1 1 0 0 0 0 0 1 0 0 0 0 0 1 0 0 0 0 -1 0 0 "
-                       "0 1 0 0 1 0 1\n",
+      {"edge3_not_pd",
+       "VERTEX3 0 0 0 0 0 0 0\nVERTEX3 1 0 0 0 0 0 0\n"
+       "EDGE3 0 1 1 0 0 0 0 0 1 0 0 0 0 0 1 0 0 0 0 -1 0 0 "
+       "0 1 0 0 1 0 1\n",
        3, "information matrix is not positive definite"},
   };
   (void)info21;

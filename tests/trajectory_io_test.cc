@@ -22,9 +22,10 @@ Trajectory Sample() {
   for (int i = 0; i < 25; ++i) {
     StampedPose p;
     p.stamp = 1305031102175304000ll + i * 33333333ll;  // Not whole seconds.
-    const Eigen::Quaterniond q(
-        Eigen::AngleAxisd(0.1 * i, Eigen::Vector3d(0.3, -0.5, 1.0).normalized()));
-    p.pose = Pose3(Eigen::Vector3d(0.1 * i, -2.0 + 0.01 * i * i, 1.0 / (i + 1)), q);
+    const Eigen::Quaterniond q(Eigen::AngleAxisd(
+        0.1 * i, Eigen::Vector3d(0.3, -0.5, 1.0).normalized()));
+    p.pose =
+        Pose3(Eigen::Vector3d(0.1 * i, -2.0 + 0.01 * i * i, 1.0 / (i + 1)), q);
     t.push_back(p);
   }
   return t;
@@ -69,7 +70,8 @@ TEST(TumTest, RoundTripIsExact) {
   const std::string path = dir + "/t.tum";
   const Trajectory t = Sample();
   std::string error;
-  ASSERT_TRUE(WriteTrajectory(path, t, TrajectoryFormat::kTum, &error)) << error;
+  ASSERT_TRUE(WriteTrajectory(path, t, TrajectoryFormat::kTum, &error))
+      << error;
   Trajectory back;
   ASSERT_TRUE(ReadTumTrajectory(path, &back, &error)) << error;
   ExpectSamePoses(t, back, 1e-15);
@@ -87,8 +89,9 @@ TEST(TumTest, RoundTripIsExact) {
 
 TEST(TumTest, NanosecondStampsAreRejectedWithAHint) {
   const std::string path = testing::TempDir() + "/ns.txt";
-  WriteText(path, "# t x y z qx qy qz qw\n"
-                  "1403636580838555648 1 2 3 0 0 0 1\n");
+  WriteText(path,
+            "# t x y z qx qy qz qw\n"
+            "1403636580838555648 1 2 3 0 0 0 1\n");
   Trajectory t;
   std::string error;
   EXPECT_FALSE(ReadTumTrajectory(path, &t, &error));
@@ -124,7 +127,8 @@ TEST(TumTest, DuplicateAndDecreasingStampsAreErrors) {
   const std::string path = testing::TempDir() + "/order.txt";
   Trajectory t;
   std::string error;
-  WriteText(path, "1.0 0 0 0 0 0 0 1\n# c\n2.0 0 0 0 0 0 0 1\n2.0 1 0 0 0 0 0 1\n");
+  WriteText(path,
+            "1.0 0 0 0 0 0 0 1\n# c\n2.0 0 0 0 0 0 0 1\n2.0 1 0 0 0 0 0 1\n");
   EXPECT_FALSE(ReadTumTrajectory(path, &t, &error));
   EXPECT_NE(error.find(path + ":4:"), std::string::npos) << error;
   EXPECT_NE(error.find("duplicate"), std::string::npos) << error;
@@ -150,18 +154,21 @@ TEST(KittiTest, RoundTripWithAndWithoutTimes) {
   const std::string dir = testing::TempDir();
   const Trajectory t = Sample();
   std::string error;
-  ASSERT_TRUE(WriteTrajectory(dir + "/poses.txt", t, TrajectoryFormat::kKitti,
-                              &error)) << error;
+  ASSERT_TRUE(
+      WriteTrajectory(dir + "/poses.txt", t, TrajectoryFormat::kKitti, &error))
+      << error;
   ASSERT_TRUE(WriteKittiTimes(dir + "/times.txt", t, &error)) << error;
   Trajectory back;
   bool has_stamps = true;
-  ASSERT_TRUE(ReadKittiPoses(dir + "/poses.txt", "", &back, &has_stamps, &error))
+  ASSERT_TRUE(
+      ReadKittiPoses(dir + "/poses.txt", "", &back, &has_stamps, &error))
       << error;
   EXPECT_FALSE(has_stamps);
   ExpectSamePoses(t, back, 1e-12, false);
   EXPECT_EQ(back[3].stamp, 3 * kNanosecondsPerSecond);  // The index.
   ASSERT_TRUE(ReadKittiPoses(dir + "/poses.txt", dir + "/times.txt", &back,
-                             &has_stamps, &error)) << error;
+                             &has_stamps, &error))
+      << error;
   EXPECT_TRUE(has_stamps);
   ExpectSamePoses(t, back, 1e-12, true);
   TrajectoryFormat f;
@@ -182,7 +189,8 @@ TEST(KittiTest, MalformedInput) {
   WriteText(path, "2 0 0 0 0 1 0 0 0 0 1 0\n");  // Not a rotation.
   EXPECT_FALSE(ReadKittiPoses(path, "", &t, &has, &error));
   EXPECT_NE(error.find(path + ":1: the 3x3 part is not a rotation"),
-            std::string::npos) << error;
+            std::string::npos)
+      << error;
   WriteText(path, "-1 0 0 0 0 1 0 0 0 0 1 0\n");  // A reflection.
   EXPECT_FALSE(ReadKittiPoses(path, "", &t, &has, &error));
   WriteText(path, "1 0 0 0 0 1 0 0 0 0 1 0\n1 0 0 1 0 1 0 0 0 0 1 0\n");
@@ -217,11 +225,13 @@ TEST(EurocTest, GroundTruthCsvWithWFirstQuaternions) {
 
 TEST(EurocTest, RoundTripAndFolderLayout) {
   const std::string dir = testing::TempDir();
-  std::filesystem::create_directories(dir + "/mav0/state_groundtruth_estimate0");
+  std::filesystem::create_directories(dir +
+                                      "/mav0/state_groundtruth_estimate0");
   const std::string path = dir + "/mav0/state_groundtruth_estimate0/data.csv";
   const Trajectory t = Sample();
   std::string error;
-  ASSERT_TRUE(WriteTrajectory(path, t, TrajectoryFormat::kEuroc, &error)) << error;
+  ASSERT_TRUE(WriteTrajectory(path, t, TrajectoryFormat::kEuroc, &error))
+      << error;
   TrajectoryData d;
   ASSERT_TRUE(ReadTrajectory(dir, {}, &d, &error)) << error;  // The folder.
   EXPECT_EQ(d.path, path);
@@ -232,7 +242,8 @@ TEST(EurocTest, MalformedInput) {
   const std::string path = testing::TempDir() + "/e.csv";
   Trajectory t;
   std::string error;
-  WriteText(path, "#timestamp,x,y,z,qw,qx,qy,qz\n1403636580.838,1,2,3,1,0,0,0\n");
+  WriteText(path,
+            "#timestamp,x,y,z,qw,qx,qy,qz\n1403636580.838,1,2,3,1,0,0,0\n");
   EXPECT_FALSE(ReadEurocTrajectory(path, &t, &error));
   EXPECT_NE(error.find(path + ":2:"), std::string::npos) << error;
   EXPECT_NE(error.find("integer nanoseconds"), std::string::npos) << error;
@@ -240,7 +251,8 @@ TEST(EurocTest, MalformedInput) {
   EXPECT_FALSE(ReadEurocTrajectory(path, &t, &error));
   EXPECT_NE(error.find(path + ":2: expected at least 8"), std::string::npos)
       << error;
-  WriteText(path, "timestamp,x,y,z,qw,qx,qy,qz\n5,1,2,3,1,0,0,0\n4,1,2,3,1,0,0,0\n");
+  WriteText(path,
+            "timestamp,x,y,z,qw,qx,qy,qz\n5,1,2,3,1,0,0,0\n4,1,2,3,1,0,0,0\n");
   EXPECT_FALSE(ReadEurocTrajectory(path, &t, &error));
   EXPECT_NE(error.find(path + ":3:"), std::string::npos) << error;
 }
@@ -250,8 +262,9 @@ TEST(EurocTest, MalformedInput) {
 TEST(G2oTest, PoseVerticesSortedByIdWithIdStamps) {
   TrajectoryData d;
   std::string error;
-  ASSERT_TRUE(ReadTrajectory(testing::FixturePath("trajectory_vertices.g2o"), {},
-                             &d, &error)) << error;
+  ASSERT_TRUE(ReadTrajectory(testing::FixturePath("trajectory_vertices.g2o"),
+                             {}, &d, &error))
+      << error;
   EXPECT_EQ(d.format, TrajectoryFormat::kG2o);
   ASSERT_EQ(d.poses.size(), 3u);  // VERTEX_XY ignored.
   for (int i = 0; i < 3; ++i) {
@@ -265,9 +278,11 @@ TEST(G2oTest, PoseVerticesSortedByIdWithIdStamps) {
 TEST(G2oTest, RoundTripAndErrors) {
   const std::string dir = testing::TempDir();
   Trajectory t = Sample();
-  for (size_t i = 0; i < t.size(); ++i) t[i].stamp = (10 + 2 * i) * kNanosecondsPerSecond;
+  for (size_t i = 0; i < t.size(); ++i)
+    t[i].stamp = (10 + 2 * i) * kNanosecondsPerSecond;
   std::string error;
-  ASSERT_TRUE(WriteTrajectory(dir + "/v.g2o", t, TrajectoryFormat::kG2o, &error));
+  ASSERT_TRUE(
+      WriteTrajectory(dir + "/v.g2o", t, TrajectoryFormat::kG2o, &error));
   Trajectory back;
   ASSERT_TRUE(ReadG2oPoses(dir + "/v.g2o", &back, &error)) << error;
   ExpectSamePoses(t, back, 1e-15);
@@ -277,8 +292,8 @@ TEST(G2oTest, RoundTripAndErrors) {
   WriteText(dir + "/short.g2o", "VERTEX_SE3:QUAT 1 0 0 0 0 0 1\n");
   EXPECT_FALSE(ReadG2oPoses(dir + "/short.g2o", &back, &error));
   EXPECT_NE(error.find("short.g2o:1:"), std::string::npos) << error;
-  EXPECT_FALSE(ReadG2oPoses(testing::FixturePath("g2o_no_vertices.g2o"), &back,
-                            &error));
+  EXPECT_FALSE(
+      ReadG2oPoses(testing::FixturePath("g2o_no_vertices.g2o"), &back, &error));
   EXPECT_NE(error.find("no VERTEX_SE2"), std::string::npos) << error;
 }
 
@@ -336,15 +351,18 @@ TEST(RealTrajectoryFilesTest, EvoTestData) {
   EXPECT_EQ(d.poses[1].stamp, 103735900ll);  // 1.037359e-01 s.
   // Row 2 of the file: t = (-4.690294e-02, -2.839928e-02, 8.586941e-01).
   EXPECT_DOUBLE_EQ(d.poses[1].pose.t.z(), 8.586941e-01);
-  ASSERT_TRUE(ReadTrajectory(dir + "/KITTI_00_ORB.txt", {}, &d, &error)) << error;
+  ASSERT_TRUE(ReadTrajectory(dir + "/KITTI_00_ORB.txt", {}, &d, &error))
+      << error;
   EXPECT_FALSE(d.has_stamps);
   EXPECT_EQ(d.poses.size(), 4541u);
-  ASSERT_TRUE(ReadTrajectory(dir + "/freiburg1_xyz-groundtruth.txt", {}, &d,
-                             &error)) << error;
+  ASSERT_TRUE(
+      ReadTrajectory(dir + "/freiburg1_xyz-groundtruth.txt", {}, &d, &error))
+      << error;
   EXPECT_EQ(d.format, TrajectoryFormat::kTum);
   EXPECT_EQ(d.poses.size(), 3000u);
   EXPECT_EQ(d.poses[0].stamp, 1305031098665900000ll);  // 1305031098.6659
-  ASSERT_TRUE(ReadTrajectory(dir + "/freiburg1_xyz-rgbdslam.txt", {}, &d, &error))
+  ASSERT_TRUE(
+      ReadTrajectory(dir + "/freiburg1_xyz-rgbdslam.txt", {}, &d, &error))
       << error;
   EXPECT_EQ(d.poses.size(), 788u);
   EXPECT_EQ(d.poses[0].stamp, 1305031102160407000ll);

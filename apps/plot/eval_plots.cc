@@ -14,7 +14,6 @@
 namespace slam {
 namespace {
 
-
 // x values of the plots: seconds from the first matched estimate stamp, or
 // the pair index when associated by index.
 std::vector<double> TimeAxis(const EvalResult& r) {
@@ -45,8 +44,8 @@ void AddStatLines(const ErrorStatistics& s, const char* unit,
 }  // namespace
 
 bool WriteEvalPlotsImpl(const std::string& dir, const EvalResult& r,
-                    const EvalSettings& s, const EvalLabels& labels,
-                    std::vector<std::string>* written, std::string* error) {
+                        const EvalSettings& s, const EvalLabels& labels,
+                        std::vector<std::string>* written, std::string* error) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec) {
@@ -82,8 +81,9 @@ bool WriteEvalPlotsImpl(const std::string& dir, const EvalResult& r,
   const std::string xl = std::string(1, names[ax]) + " [m]";
   const std::string yl = std::string(1, names[ay]) + " [m]";
   const char* const align_names[] = {
-      "not aligned", "aligned with SE(3) Umeyama", "aligned with Sim(3) Umeyama",
-      "scale-corrected", "aligned at the first pose"};
+      "not aligned", "aligned with SE(3) Umeyama",
+      "aligned with Sim(3) Umeyama", "scale-corrected",
+      "aligned at the first pose"};
   const std::string align_name = align_names[static_cast<int>(s.align)];
 
   auto save = [&](const std::string& name, const cv::Mat& img) {
@@ -107,8 +107,8 @@ bool WriteEvalPlotsImpl(const std::string& dir, const EvalResult& r,
     if (!r.ref.empty()) {
       a.markers.push_back({r.ref.front().t[ax], r.ref.front().t[ay],
                            plot::kGreen, false, "start"});
-      a.markers.push_back({r.ref.back().t[ax], r.ref.back().t[ay], plot::kRed,
-                           true, "end"});
+      a.markers.push_back(
+          {r.ref.back().t[ax], r.ref.back().t[ay], plot::kRed, true, "end"});
     }
     if (!save("trajectories.png", plot::RenderFigure({a}, 1400, 1050))) {
       return false;
@@ -144,14 +144,14 @@ bool WriteEvalPlotsImpl(const std::string& dir, const EvalResult& r,
     at.title = "APE translation over time (" + align_name + ")";
     at.xlabel = TimeLabel(r);
     at.ylabel = "APE translation [m]";
-    at.lines.push_back({t, r.ape_translation, plot::kBlue, 2, false,
-                        "APE translation"});
+    at.lines.push_back(
+        {t, r.ape_translation, plot::kBlue, 2, false, "APE translation"});
     AddStatLines(r.ape_translation_stats, "m", &at);
     ar.title = "APE rotation over time (angle of P_est^-1 P_ref)";
     ar.xlabel = TimeLabel(r);
     ar.ylabel = "APE rotation [deg]";
-    ar.lines.push_back({t, r.ape_rotation_deg, plot::kPurple, 2, false,
-                        "APE rotation"});
+    ar.lines.push_back(
+        {t, r.ape_rotation_deg, plot::kPurple, 2, false, "APE rotation"});
     AddStatLines(r.ape_rotation_stats, "deg", &ar);
     if (!save("ape.png", plot::RenderFigure({at, ar}, 1400, 620))) {
       return false;
@@ -182,4 +182,3 @@ bool WriteEvalPlotsImpl(const std::string& dir, const EvalResult& r,
 }
 
 }  // namespace slam
-

@@ -5,8 +5,8 @@
 #include <cstdio>
 #include <limits>
 
-#include <opencv2/imgproc.hpp>
 #include <zlib.h>
+#include <opencv2/imgproc.hpp>
 
 #include "datasets/atomic_file.h"
 
@@ -187,8 +187,8 @@ void RenderAxes(const Axes& axes, cv::Mat& img, const cv::Rect& panel) {
   }
   const int left = 100, right = bar ? 150 : 30, top = 52, bottom = 68;
   Mapping m;
-  m.area = cv::Rect(panel.x + left, panel.y + top,
-                    panel.width - left - right, panel.height - top - bottom);
+  m.area = cv::Rect(panel.x + left, panel.y + top, panel.width - left - right,
+                    panel.height - top - bottom);
 
   // Data limits.
   Box box;
@@ -261,8 +261,8 @@ void RenderAxes(const Axes& axes, cv::Mat& img, const cv::Rect& panel) {
   local.area = cv::Rect(0, 0, m.area.width, m.area.height);
   auto count_point = [&](double x, double y) {
     const cv::Point2d p = local.ToPixel(x, y);
-    const bool l = p.x < lw + 20, r = p.x > m.area.width - lw - 20;
-    const bool t = p.y < lh + 20, b = p.y > m.area.height - lh - 20;
+    const bool l = p.x<lw + 20, r = p.x> m.area.width - lw - 20;
+    const bool t = p.y<lh + 20, b = p.y> m.area.height - lh - 20;
     if (t && l) ++counts[0];
     if (t && r) ++counts[1];
     if (b && l) ++counts[2];
@@ -291,7 +291,8 @@ void RenderAxes(const Axes& axes, cv::Mat& img, const cv::Rect& panel) {
     const double frac = static_cast<double>(lh + 24) / m.area.height;
     box.y1 = box.y0 + (box.y1 - box.y0) / (1.0 - frac);
     if (axes.equal_aspect) {
-      const double half = 0.5 * (box.y1 - box.y0) / m.area.height * m.area.width;
+      const double half =
+          0.5 * (box.y1 - box.y0) / m.area.height * m.area.width;
       const double cx = 0.5 * (box.x0 + box.x1);
       box.x0 = cx - half;
       box.x1 = cx + half;
@@ -310,15 +311,15 @@ void RenderAxes(const Axes& axes, cv::Mat& img, const cv::Rect& panel) {
     const int p = static_cast<int>(std::lround(m.ToPixel(x, 0).x));
     cv::line(img, cv::Point(p, ay0), cv::Point(p, ay1), kGrid, 1);
     cv::line(img, cv::Point(p, ay1), cv::Point(p, ay1 + 6), kBlack, 1);
-    PutText(img, FormatTick(x, xstep), cv::Point(p, ay1 + 10), kTickScale, 1,
-            0, -1);
+    PutText(img, FormatTick(x, xstep), cv::Point(p, ay1 + 10), kTickScale, 1, 0,
+            -1);
   }
   for (double y : yt) {
     const int p = static_cast<int>(std::lround(m.ToPixel(0, y).y));
     cv::line(img, cv::Point(ax0, p), cv::Point(ax1, p), kGrid, 1);
     cv::line(img, cv::Point(ax0 - 6, p), cv::Point(ax0, p), kBlack, 1);
-    PutText(img, FormatTick(y, ystep), cv::Point(ax0 - 10, p), kTickScale, 1,
-            1, 0);
+    PutText(img, FormatTick(y, ystep), cv::Point(ax0 - 10, p), kTickScale, 1, 1,
+            0);
   }
 
   // Data, clipped to the plot area.
@@ -336,8 +337,8 @@ void RenderAxes(const Axes& axes, cv::Mat& img, const cv::Rect& panel) {
     for (size_t i = 1; i < n; ++i) {
       const double v = 0.5 * (p.value[i - 1] + p.value[i]);
       DrawSegment(area, local.ToPixel(p.x[i - 1], p.y[i - 1]),
-                  local.ToPixel(p.x[i], p.y[i]),
-                  ColorMap((v - p.vmin) / range), p.thickness);
+                  local.ToPixel(p.x[i], p.y[i]), ColorMap((v - p.vmin) / range),
+                  p.thickness);
     }
   }
   for (const auto& l : axes.lines) {
@@ -433,7 +434,10 @@ std::vector<double> NiceTicks(double lo, double hi, int target, double* step) {
   const double raw = (hi - lo) / std::max(1, target);
   const double mag = std::pow(10.0, std::floor(std::log10(raw)));
   const double norm = raw / mag;
-  const double nice = norm < 1.5 ? 1.0 : norm < 3.5 ? 2.0 : norm < 7.5 ? 5.0 : 10.0;
+  const double nice = norm < 1.5   ? 1.0
+                      : norm < 3.5 ? 2.0
+                      : norm < 7.5 ? 5.0
+                                   : 10.0;
   *step = nice * mag;
   const double first = std::ceil(lo / *step - 1e-9) * *step;
   for (double v = first; v <= hi + 1e-9 * *step; v += *step) {
@@ -460,12 +464,13 @@ std::string FormatTick(double value, double step) {
 
 cv::Mat RenderFigure(const std::vector<Axes>& panels, int width,
                      int panel_height) {
-  cv::Mat img(panel_height * static_cast<int>(std::max<size_t>(1, panels.size())),
-              width, CV_8UC3, kWhite);
+  cv::Mat img(
+      panel_height * static_cast<int>(std::max<size_t>(1, panels.size())),
+      width, CV_8UC3, kWhite);
   for (size_t i = 0; i < panels.size(); ++i) {
-    RenderAxes(panels[i], img,
-               cv::Rect(0, panel_height * static_cast<int>(i), width,
-                        panel_height));
+    RenderAxes(
+        panels[i], img,
+        cv::Rect(0, panel_height * static_cast<int>(i), width, panel_height));
   }
   return img;
 }

@@ -78,8 +78,7 @@ cv::Mat RenderFigure(const std::vector<Axes>& panels, int width,
 // load OpenCV's imgcodecs (over a hundred shared libraries at start-up).
 bool EncodePng(const cv::Mat& image, std::string* png);
 // Writes a PNG atomically; false with "PATH: problem".
-bool SavePng(const std::string& path, const cv::Mat& image,
-             std::string* error);
+bool SavePng(const std::string& path, const cv::Mat& image, std::string* error);
 
 // "Nice" tick positions (steps of 1, 2 or 5 times a power of ten) covering
 // [lo, hi] with about `target` ticks; *step receives the step.
