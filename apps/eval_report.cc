@@ -268,6 +268,18 @@ bool EvaluateAndReport(const Trajectory& ref, const Trajectory& est,
                            result, error);
 }
 
+bool LoadEvalSectionOfConfig(const std::string& config_path,
+                             EvalSettings* settings, std::string* error) {
+  if (config_path.empty()) return true;
+  YAML::Node root;
+  if (!LoadYamlFile(config_path, &root, error)) return false;
+  if (!CheckTopLevelSections(root, config_path, error)) return false;
+  if (!root.IsMap() || !root["eval"]) return true;
+  bool associate_auto = true;
+  return ReadEvalSettingsYaml(root["eval"], config_path + " (eval)", settings,
+                              &associate_auto, error);
+}
+
 bool ReadEvalSettingsYaml(const YAML::Node& node, const std::string& where,
                           EvalSettings* s, bool* associate_auto,
                           std::string* error) {

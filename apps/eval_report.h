@@ -90,6 +90,11 @@ bool WriteEvalPlotsImpl(const std::string& dir, const EvalResult& result,
 bool ReadEvalSettingsYaml(const YAML::Node& node, const std::string& where,
                           EvalSettings* settings, bool* associate_auto,
                           std::string* error);
+// The `eval:` section of the YAML config file `config_path` (empty: none)
+// into *settings, for commands that evaluate as a side job (optimize --gt,
+// inertial --gt). Leaves *settings alone when there is no such section.
+bool LoadEvalSectionOfConfig(const std::string& config_path,
+                             EvalSettings* settings, std::string* error);
 // The same keys as YAML text (each line indented by `indent` spaces).
 std::string EvalSettingsYaml(const EvalSettings& settings, bool associate_auto,
                              int indent);

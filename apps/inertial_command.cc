@@ -104,16 +104,6 @@ std::string StatesCsv(const std::vector<InertialState>& states) {
   return out;
 }
 
-bool LoadEvalSettingsSection(EvalSettings* settings, std::string* error) {
-  if (FLAGS_config.empty()) return true;
-  YAML::Node root;
-  if (!LoadYamlFile(FLAGS_config, &root, error)) return false;
-  if (!root.IsMap() || !root["eval"]) return true;
-  bool associate_auto = true;
-  return ReadEvalSettingsYaml(root["eval"], FLAGS_config + " (eval)", settings,
-                              &associate_auto, error);
-}
-
 // initial_state: ground_truth. Drops the IMU readings before the first
 // ground-truth state and starts there.
 bool StartAtGroundTruth(InertialData* data, std::string* error) {
@@ -241,7 +231,7 @@ int RunInertialCommand(const std::vector<std::string>& args) {
 
   if (evaluate) {
     EvalSettings settings;
-    if (!LoadEvalSettingsSection(&settings, &error)) {
+    if (!LoadEvalSectionOfConfig(FLAGS_config, &settings, &error)) {
       std::cerr << "slam inertial: " << error << "\n";
       return 1;
     }

@@ -253,18 +253,6 @@ bool Initialize(const std::string& init, bool landmarks_from_observations,
   return true;
 }
 
-// The `eval:` section of --config, if any, over the default settings.
-bool LoadEvalSettings(EvalSettings* settings, std::string* error) {
-  if (FLAGS_config.empty()) return true;
-  YAML::Node root;
-  if (!LoadYamlFile(FLAGS_config, &root, error)) return false;
-  if (!CheckTopLevelSections(root, FLAGS_config, error)) return false;
-  if (!root.IsMap() || !root["eval"]) return true;
-  bool associate_auto = true;
-  return ReadEvalSettingsYaml(root["eval"], FLAGS_config + " (eval)", settings,
-                              &associate_auto, error);
-}
-
 // --gt: evaluates the optimized poses (stamped by node id, in seconds, as
 // `slam simulate` stamps its ground truth) against the reference.
 bool EvaluateAgainstGroundTruth(const Graph& graph, const TrajectoryData& gt,
@@ -272,7 +260,7 @@ bool EvaluateAgainstGroundTruth(const Graph& graph, const TrajectoryData& gt,
   Trajectory estimate;
   if (!TrajectoryFromGraph(graph, false, &estimate, error)) return false;
   EvalSettings settings;
-  if (!LoadEvalSettings(&settings, error)) return false;
+  if (!LoadEvalSectionOfConfig(FLAGS_config, &settings, error)) return false;
   settings.association = ChooseAssociation(gt.has_stamps, true);
   EvalLabels labels;
   labels.ref_name = "ground truth";
