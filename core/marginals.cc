@@ -5,6 +5,7 @@
 
 #include "ceres/covariance.h"
 #include "ceres/problem.h"
+#include "core/openmp_scope.h"
 
 namespace slam {
 
@@ -46,6 +47,7 @@ bool ComputeMarginals(Graph* graph, const std::vector<Key>& keys,
     }
     if (requested.insert(data).second) blocks.emplace_back(data, data);
   }
+  const SerialOpenMpScope serial_openmp;
   if (!covariance.Compute(blocks, &problem)) {
     *error =
         "the system is rank deficient: some nodes are not determined by the "

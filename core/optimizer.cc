@@ -11,6 +11,7 @@
 #include "ceres/ordered_groups.h"
 #include "ceres/problem.h"
 #include "ceres/solver.h"
+#include "core/openmp_scope.h"
 #include "core/ordering.h"
 
 namespace slam {
@@ -311,7 +312,10 @@ OptimizerSummary Optimize(Graph* graph, const OptimizerOptions& options,
   }
 
   ceres::Solver::Summary ceres_summary;
-  ceres::Solve(solver_options, &problem, &ceres_summary);
+  {
+    const SerialOpenMpScope serial_openmp;
+    ceres::Solve(solver_options, &problem, &ceres_summary);
+  }
 
   summary.iterations = static_cast<int>(ceres_summary.iterations.size()) - 1;
   summary.converged = ceres_summary.termination_type == ceres::CONVERGENCE;

@@ -10,6 +10,7 @@
 #include "ceres/solver.h"
 #include "ceres/types.h"
 #include "core/marginals.h"
+#include "core/openmp_scope.h"
 
 namespace slam {
 namespace {
@@ -97,7 +98,10 @@ bool SlidingWindow::Update(WindowUpdateStats* stats, std::string* error) {
     solver.logging_type = ceres::SILENT;
     solver.minimizer_progress_to_stdout = false;
     ceres::Solver::Summary summary;
-    ceres::Solve(solver, &problem, &summary);
+    {
+      const SerialOpenMpScope serial_openmp;
+      ceres::Solve(solver, &problem, &summary);
+    }
     local.iterations = static_cast<int>(summary.iterations.size());
     local.solve_seconds = SecondsSince(start);
     if (summary.termination_type == ceres::FAILURE) {
