@@ -15,11 +15,10 @@
 #include <string>
 #include <vector>
 
-#include <malloc.h>
-
 #include <gflags/gflags.h>
 
 #include "apps/commands.h"
+#include "apps/process_heap.h"
 
 namespace {
 
@@ -62,13 +61,7 @@ void PrintUsage() {
 }  // namespace
 
 int main(int argc, char** argv) {
-  // The solvers allocate and free large buffers every iteration; keeping
-  // freed memory in the process instead of returning it to the kernel
-  // saves the page faults of re-touching it (10-30% of the wall time of
-  // the pose-graph benchmarks on this machine class).
-  mallopt(M_MMAP_THRESHOLD, 1 << 30);
-  mallopt(M_TRIM_THRESHOLD, 1 << 30);
-  mallopt(M_TOP_PAD, 64 << 20);
+  slam::ConfigureProcessHeap();  // See apps/process_heap.h.
   if (argc < 2 || std::strcmp(argv[1], "--help") == 0 ||
       std::strcmp(argv[1], "-h") == 0 || std::strcmp(argv[1], "help") == 0) {
     PrintUsage();
