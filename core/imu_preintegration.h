@@ -238,10 +238,7 @@ bool IntegrateImuSamples(
     PreintegratedImu* pim,
     ImuInterpolation interpolation = ImuInterpolation::kLinear);
 
-// Right Jacobian of SO(3) at phi (full angle): Exp(phi + d) ~ Exp(phi)
-// Exp(Jr(phi) d); and its inverse: Log(Exp(phi) Exp(d)) ~ phi + Jr^-1 d.
-Eigen::Matrix3d RightJacobianSO3(const Eigen::Vector3d& phi);
-Eigen::Matrix3d RightJacobianInverseSO3(const Eigen::Vector3d& phi);
+// RightJacobianSO3 and RightJacobianInverseSO3 live in core/lie.h.
 
 }  // namespace slam
 

@@ -11,6 +11,7 @@
 #include <Eigen/SparseCholesky>
 
 #include <Eigen/SparseCore>
+#include "core/lie.h"
 #include "core/ordering.h"
 
 namespace slam {
@@ -284,6 +285,58 @@ Eigen::Matrix<double, D, D> MeasuredRotation(const Factor& factor) {
   }
 }
 
+// 1b. (3D) Gauss-Newton on the rotations alone, from the chordal estimate.
+// The chordal relaxation weighs every measurement isotropically (a scalar per
+// edge), but real graphs carry anisotropic rotation information (e.g.
+// parking-garage: loop closures four times weaker about the vertical), and
+// the relaxation over all 3x3 matrices cannot honour it. These iterations
+// minimize sum_e |Log(R_z^T R_a^T R_b)|^2 over Omega_theta = Omega_qvec / 4
+// (g2o's rotation information is over the quaternion vector part, about half
+// the angle) with right perturbations R <- R Exp(delta): the rotation part of
+// the pose-graph cost, so the translations solved next start from rotations
+// consistent with the information the optimizer will use.
+constexpr int kRotationRefinementIterations = 2;
+
+bool RefineRotations(const PoseGraphView& view,
+                     const std::vector<Eigen::Matrix3d>& measured,
+                     const std::vector<bool>& anchor,
+                     const std::vector<int>& order,
+                     std::vector<Eigen::Matrix3d>* rot, SparseLdlt* solver,
+                     bool* analyzed, std::string* error) {
+  const int n = static_cast<int>(view.nodes.size());
+  std::vector<LinearTerm<3, 1>> terms(view.edges.size());
+  for (int it = 0; it < kRotationRefinementIterations; ++it) {
+    for (size_t e = 0; e < view.edges.size(); ++e) {
+      const auto& edge = view.edges[e];
+      LinearTerm<3, 1>& t = terms[e];
+      t.a = edge.a;
+      t.b = edge.b;
+      const Eigen::Matrix3d r_ab = (*rot)[edge.a].transpose() * (*rot)[edge.b];
+      const Eigen::Vector3d r0 = QuaternionLog<double>(
+          Eigen::Quaterniond(measured[e].transpose() * r_ab));
+      // Log(R_e Exp(u)) ~ r0 + Jr^-1(r0) u, u = delta_b - R_ab^T delta_a.
+      const Eigen::Matrix3d jr_inv = RightJacobianInverseSO3(r0);
+      t.A_a = -jr_inv * r_ab.transpose();
+      t.A_b = jr_inv;
+      const Eigen::Matrix3d info =
+          edge.factor->information.bottomRightCorner<3, 3>();
+      t.W = 0.125 * (info + info.transpose());
+      t.C = r0;
+    }
+    std::vector<Eigen::Vector3d> delta(n, Eigen::Vector3d::Zero());
+    if (!SolveLinear<3, 1>(terms, anchor, order, &delta, solver, analyzed,
+                           error)) {
+      return false;
+    }
+    for (int i = 0; i < n; ++i) {
+      if (anchor[i]) continue;
+      (*rot)[i] =
+          (*rot)[i] * QuaternionExp<double>(delta[i]).toRotationMatrix();
+    }
+  }
+  return true;
+}
+
 // D = 2 or 3. Rotation unknowns: 2D X_k = (cos, sin), the first column of
 // R_k, with constraint X_b - R_z X_a = 0 (M = 1); 3D X_k = R_k^T, with
 // constraint R_z^T X_a - X_b = 0 (M = 3, one column per row of R_k).
@@ -347,6 +400,12 @@ bool ChordalImpl(const PoseGraphView& view, const std::vector<bool>& anchor,
       rot[i] = ProjectToSO3(x[i].transpose());
     } else {
       rot[i] = RotationMatrix2D(std::atan2(x[i](1, 0), x[i](0, 0)));
+    }
+  }
+  if constexpr (D == 3) {
+    if (!RefineRotations(view, measured, anchor, order, &rot, &solver,
+                         &analyzed, error)) {
+      return false;
     }
   }
   // 2. Translations with rotations fixed: t_b - t_a - R_a t_z = 0. The error

@@ -117,6 +117,32 @@ struct Pose3 {
   }
 };
 
+// Right Jacobian of SO(3) at phi (full angle): Exp(phi + d) ~ Exp(phi)
+// Exp(Jr(phi) d); and its inverse: Log(Exp(phi) Exp(d)) ~ phi + Jr^-1 d.
+inline Eigen::Matrix3d RightJacobianSO3(const Eigen::Vector3d& phi) {
+  const double theta_sq = phi.squaredNorm();
+  const Eigen::Matrix3d k = Skew<double>(phi);
+  if (theta_sq < 1e-10) {
+    return Eigen::Matrix3d::Identity() - 0.5 * k + k * k / 6.0;
+  }
+  const double theta = std::sqrt(theta_sq);
+  return Eigen::Matrix3d::Identity() - (1.0 - std::cos(theta)) / theta_sq * k +
+         (theta - std::sin(theta)) / (theta_sq * theta) * k * k;
+}
+
+inline Eigen::Matrix3d RightJacobianInverseSO3(const Eigen::Vector3d& phi) {
+  const double theta_sq = phi.squaredNorm();
+  const Eigen::Matrix3d k = Skew<double>(phi);
+  if (theta_sq < 1e-10) {
+    return Eigen::Matrix3d::Identity() + 0.5 * k + k * k / 12.0;
+  }
+  const double theta = std::sqrt(theta_sq);
+  return Eigen::Matrix3d::Identity() + 0.5 * k +
+         (1.0 / theta_sq -
+          (1.0 + std::cos(theta)) / (2.0 * theta * std::sin(theta))) *
+             k * k;
+}
+
 }  // namespace slam
 
 #endif  // SLAM_CORE_LIE_H_
