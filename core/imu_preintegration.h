@@ -31,6 +31,10 @@
 // Forster's paper uses the rotation at the start of the interval (Euler);
 // the midpoint rotation makes the scheme second order in dt for smooth
 // motion (global error O(dt^2); the rotation is exact for a constant rate).
+// It is exact, to rounding, for motion whose body rate and world
+// acceleration are constant over each interval (a geodesic rotation spline
+// and a C1 quadratic position spline with knots at the samples), given the
+// readings at the interval middles.
 //
 // Tangent order and perturbation side
 //   The preintegrated error state is [dphi, dv, dp] (rotation, velocity,
