@@ -59,12 +59,22 @@ int NodeTangentSize(const Node& node) {
   return n > 0 ? n : static_cast<int>(node.value.size());
 }
 
-bool ComputeMarginalizationPrior(const Graph& graph,
-                                 const std::vector<Key>& marginalized,
-                                 const MarginalizationOptions& options,
-                                 LinearPrior* prior,
-                                 std::vector<FactorId>* used_factors,
-                                 std::string* error) {
+bool ComputeMarginalizationPrior(
+    const Graph& graph, const std::vector<Key>& marginalized,
+    const MarginalizationOptions& options, LinearPrior* prior,
+    std::vector<FactorId>* used_factors, std::string* error,
+    const LinearizationPoints* linearization_points) {
+  // The value a node is linearised at: its FEJ point, else its current value.
+  const auto lin_value = [&](const Node& node) -> const std::vector<double>& {
+    if (linearization_points != nullptr) {
+      auto it = linearization_points->find(node.key);
+      if (it != linearization_points->end() &&
+          it->second.size() == node.value.size()) {
+        return it->second;
+      }
+    }
+    return node.value;
+  };
   *prior = LinearPrior();
   used_factors->clear();
   const std::set<Key> marg(marginalized.begin(), marginalized.end());
@@ -100,7 +110,7 @@ bool ComputeMarginalizationPrior(const Graph& graph,
     offset[key] = m_size + k_size;
     k_size += NodeTangentSize(*node);
     prior->keys.push_back(key);
-    prior->x0.push_back(node->value);
+    prior->x0.push_back(lin_value(*node));
     prior->tangent_sizes.push_back(NodeTangentSize(*node));
   }
   const int n = m_size + k_size;
@@ -114,6 +124,13 @@ bool ComputeMarginalizationPrior(const Graph& graph,
     const Factor& factor = *graph.FindFactor(id);
     const int rows = factor.cost->num_residuals();
     params = graph.ParameterBlocks(factor);
+    std::vector<const double*> lin_params(params.size());
+    bool shifted = false;
+    for (size_t k = 0; k < factor.keys.size(); ++k) {
+      const std::vector<double>& v = lin_value(*graph.FindNode(factor.keys[k]));
+      lin_params[k] = v.data();
+      shifted = shifted || lin_params[k] != params[k];
+    }
     ambient_jacobians.resize(factor.keys.size());
     jacobian_ptrs.resize(factor.keys.size());
     for (size_t k = 0; k < factor.keys.size(); ++k) {
@@ -122,12 +139,16 @@ bool ComputeMarginalizationPrior(const Graph& graph,
       jacobian_ptrs[k] = ambient_jacobians[k].data();
     }
     Eigen::VectorXd r(rows);
-    if (!factor.cost->Evaluate(params.data(), r.data(), jacobian_ptrs.data())) {
+    Eigen::VectorXd r_lin(rows);
+    if (!factor.cost->Evaluate(lin_params.data(), r_lin.data(),
+                               jacobian_ptrs.data()) ||
+        (shifted && !factor.cost->Evaluate(params.data(), r.data(), nullptr))) {
       *error = "cannot marginalise: the cost function of factor " +
                std::to_string(id) + " (" + FactorTypeName(factor.type) +
                ") failed to evaluate";
       return false;
     }
+    if (!shifted) r = r_lin;
     // Tangent Jacobian over the columns of this factor's free blocks.
     std::vector<int> cols;
     std::vector<int> block_offset;
@@ -142,6 +163,8 @@ bool ComputeMarginalizationPrior(const Graph& graph,
       }
     }
     Eigen::MatrixXd j = Eigen::MatrixXd::Zero(rows, width);
+    // (x [-] x_lin) of the free blocks: moves the residual to x_lin.
+    Eigen::VectorXd shift = Eigen::VectorXd::Zero(width);
     for (size_t k = 0; k < factor.keys.size(); ++k) {
       if (block_offset[k] < 0) continue;  // Fixed marginalised node.
       const Node* node = graph.FindNode(factor.keys[k]);
@@ -149,12 +172,25 @@ bool ComputeMarginalizationPrior(const Graph& graph,
       const int t = NodeTangentSize(*node);
       if (manifold == nullptr) {
         j.middleCols(block_offset[k], t) = ambient_jacobians[k];
+        if (lin_params[k] != params[k]) {
+          for (int c = 0; c < t; ++c) {
+            shift[block_offset[k] + c] = params[k][c] - lin_params[k][c];
+          }
+        }
       } else {
         RowMajorMatrix plus(manifold->AmbientSize(), manifold->TangentSize());
-        manifold->PlusJacobian(node->value.data(), plus.data());
+        manifold->PlusJacobian(lin_params[k], plus.data());
         j.middleCols(block_offset[k], t) = ambient_jacobians[k] * plus;
+        if (lin_params[k] != params[k] &&
+            !manifold->Minus(params[k], lin_params[k],
+                             shift.data() + block_offset[k])) {
+          *error = "cannot marginalise: " + node->key.ToString() +
+                   " is too far from its linearization point";
+          return false;
+        }
       }
     }
+    if (shifted) r -= j * shift;
     if (options.use_loss && factor.loss) ApplyCorrector(*factor.loss, &r, &j);
     const Eigen::MatrixXd jtj = j.transpose() * j;
     const Eigen::VectorXd jtr = j.transpose() * r;
@@ -207,12 +243,13 @@ bool ComputeMarginalizationPrior(const Graph& graph,
 bool MarginalizeNodes(Graph* graph, const std::vector<Key>& marginalized,
                       const MarginalizationOptions& options,
                       const PriorFactorBuilder& builder, FactorId* prior_id,
-                      std::string* error) {
+                      std::string* error,
+                      const LinearizationPoints* linearization_points) {
   if (prior_id != nullptr) *prior_id = -1;
   LinearPrior prior;
   std::vector<FactorId> used;
   if (!ComputeMarginalizationPrior(*graph, marginalized, options, &prior, &used,
-                                   error)) {
+                                   error, linearization_points)) {
     return false;
   }
   Factor factor;

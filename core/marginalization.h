@@ -24,12 +24,22 @@
 // the quadratic model of the marginalised problem over K (the constant, i.e.
 // the chi2 the removed factors had at their optimum, is not kept).
 //
-// The prior is expressed at the linearization point x0 of K (the values at
-// marginalization time), r(x) = J0 (x [-] x0) + r0 (factors/
-// marginalization_prior.h). J0 and x0 never change afterwards: the states
-// the prior touches keep their first-estimate linearization point for that
-// prior (FEJ). When a later marginalization consumes this prior, the prior is
-// linearised like any other factor at the then current values.
+// The prior is expressed at the linearization point x0 of K, r(x) =
+// J0 (x [-] x0) + r0 (factors/marginalization_prior.h). J0 and x0 never
+// change afterwards.
+//
+// First-estimate Jacobians (FEJ, Huang, Mourikis and Roumeliotis): a node
+// that a prior already touches must keep ONE linearization point in every
+// later prior, or the priors disagree about the directions the data leave
+// unobserved and the window gains spurious information there. Pass the
+// nodes' linearization points in `linearization_points` (the sliding window
+// keeps them: a node's x0 in the first prior that touches it). Every factor
+// touching M is then linearised with its Jacobians at those points (current
+// values for nodes without one), and its residual is moved there from the
+// current values to first order, r_lin = r(x) - J (x [-] x_lin), which keeps
+// the information the current residual carries; a kept node with a point
+// has it as its x0 in the new prior. Without points, everything is linearised
+// at the current values (x0 = the values at marginalization time).
 //
 // Fixed marginalised nodes contribute no tangent columns (they are constants);
 // fixed kept nodes are kept in the prior, which is harmless: the (free, free)
@@ -43,6 +53,7 @@
 
 #include <Eigen/Core>
 #include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -78,12 +89,15 @@ int NodeTangentSize(const Node& node);
 // Schur-complements the marginalised block. Fills *prior (its keys may be
 // empty when the marginalised nodes connect to nothing else) and the ids of
 // the factors used. Does not modify the graph.
-bool ComputeMarginalizationPrior(const Graph& graph,
-                                 const std::vector<Key>& marginalized,
-                                 const MarginalizationOptions& options,
-                                 LinearPrior* prior,
-                                 std::vector<FactorId>* used_factors,
-                                 std::string* error);
+// Linearization points of nodes (FEJ), by key; nodes absent use their
+// current values.
+using LinearizationPoints = std::map<Key, std::vector<double>>;
+
+bool ComputeMarginalizationPrior(
+    const Graph& graph, const std::vector<Key>& marginalized,
+    const MarginalizationOptions& options, LinearPrior* prior,
+    std::vector<FactorId>* used_factors, std::string* error,
+    const LinearizationPoints* linearization_points = nullptr);
 
 // Builds the graph factor (type kMarginalizationPrior) for a prior.
 using PriorFactorBuilder = std::function<bool(
@@ -93,10 +107,11 @@ using PriorFactorBuilder = std::function<bool(
 // marginalised nodes from the graph and adds the prior built by `builder`
 // (none when it has no rows or no keys). *prior_id is the new factor's id or
 // -1 when none was added (may be nullptr).
-bool MarginalizeNodes(Graph* graph, const std::vector<Key>& marginalized,
-                      const MarginalizationOptions& options,
-                      const PriorFactorBuilder& builder, FactorId* prior_id,
-                      std::string* error);
+bool MarginalizeNodes(
+    Graph* graph, const std::vector<Key>& marginalized,
+    const MarginalizationOptions& options, const PriorFactorBuilder& builder,
+    FactorId* prior_id, std::string* error,
+    const LinearizationPoints* linearization_points = nullptr);
 
 }  // namespace slam
 

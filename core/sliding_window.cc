@@ -128,11 +128,27 @@ bool SlidingWindow::MarginalizeOldest(std::string* error) {
   for (const Key& key : oldest.keys) {
     values.emplace_back(key, graph_.FindNode(key)->value);
   }
+  FactorId prior_id = -1;
   if (!MarginalizeNodes(&graph_, oldest.keys, options_.marginalization,
-                        options_.prior_builder, nullptr, error)) {
+                        options_.prior_builder, &prior_id, error,
+                        options_.first_estimate_jacobians
+                            ? &linearization_points_
+                            : nullptr)) {
     return false;
   }
-  for (auto& [key, value] : values) final_values_[key] = std::move(value);
+  for (auto& [key, value] : values) {
+    linearization_points_.erase(key);
+    final_values_[key] = std::move(value);
+  }
+  // A node entering a prior for the first time keeps this linearization
+  // point (the prior's x0: its current value) from now on.
+  if (const Factor* prior = graph_.FindFactor(prior_id)) {
+    for (const Key& key : prior->keys) {
+      if (linearization_points_.count(key) == 0) {
+        linearization_points_[key] = graph_.FindNode(key)->value;
+      }
+    }
+  }
   keyframes_.pop_front();
   return true;
 }

@@ -51,6 +51,11 @@ struct SlidingWindowOptions {
   int num_threads = 1;
   MarginalizationOptions marginalization;
   PriorFactorBuilder prior_builder;  // Required once the window fills.
+  // First-estimate Jacobians across priors (core/marginalization.h): a node
+  // keeps the linearization point of the first prior that touches it in
+  // every later marginalization. false: each marginalization linearises at
+  // the current values (priors then disagree on unobserved directions).
+  bool first_estimate_jacobians = true;
 };
 
 struct WindowUpdateStats {
@@ -111,6 +116,7 @@ class SlidingWindow {
   Graph graph_;
   std::deque<Keyframe> keyframes_;
   std::map<Key, std::vector<double>> final_values_;
+  LinearizationPoints linearization_points_;  // FEJ points of prior nodes.
   std::vector<double> update_seconds_;
 };
 

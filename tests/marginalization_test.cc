@@ -12,6 +12,7 @@
 #include "core/marginalization.h"
 
 #include <Eigen/Core>
+#include <Eigen/Eigenvalues>
 #include <cmath>
 #include <map>
 #include <memory>
@@ -355,6 +356,105 @@ TEST(MarginalizationPriorTest, FirstEstimateJacobiansStayFixed) {
   ASSERT_TRUE(cost->Evaluate(params.data(), r.data(), jac_ptrs.data()));
   for (size_t k = 0; k < jac.size(); ++k) {
     EXPECT_EQ((jac[k] - before.j0.middleCols(3 * k, 3)).norm(), 0.0);
+  }
+}
+
+// Gauss-Newton Hessian of a whole graph over its free nodes' tangents, every
+// factor linearised at `points` (current values for nodes not listed).
+Eigen::MatrixXd TotalHessian(const Graph& graph,
+                             const LinearizationPoints& points) {
+  using RowMajor =
+      Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  std::map<Key, int> offset;
+  int n = 0;
+  for (const auto& [key, node] : graph.nodes()) {
+    offset[key] = n;
+    n += NodeTangentSize(*node);
+  }
+  Eigen::MatrixXd h = Eigen::MatrixXd::Zero(n, n);
+  for (const auto& [id, factor] : graph.factors()) {
+    const int rows = factor.cost->num_residuals();
+    std::vector<const double*> params;
+    for (const Key& key : factor.keys) {
+      auto it = points.find(key);
+      params.push_back(it != points.end() ? it->second.data()
+                                          : graph.FindNode(key)->value.data());
+    }
+    std::vector<RowMajor> ambient(factor.keys.size());
+    std::vector<double*> ptrs;
+    for (size_t k = 0; k < factor.keys.size(); ++k) {
+      ambient[k].resize(rows, factor.cost->parameter_block_sizes()[k]);
+      ptrs.push_back(ambient[k].data());
+    }
+    Eigen::VectorXd r(rows);
+    EXPECT_TRUE(factor.cost->Evaluate(params.data(), r.data(), ptrs.data()));
+    std::vector<Eigen::MatrixXd> tangent;
+    for (size_t k = 0; k < factor.keys.size(); ++k) {
+      const ceres::Manifold* m = graph.ManifoldFor(factor.keys[k].kind);
+      RowMajor plus(m->AmbientSize(), m->TangentSize());
+      m->PlusJacobian(params[k], plus.data());
+      tangent.push_back(ambient[k] * plus);
+    }
+    for (size_t a = 0; a < factor.keys.size(); ++a) {
+      for (size_t b = 0; b < factor.keys.size(); ++b) {
+        h.block(offset[factor.keys[a]], offset[factor.keys[b]], 6, 6) +=
+            tangent[a].transpose() * tangent[b];
+      }
+    }
+  }
+  return h;
+}
+
+// First-estimate Jacobians (core/marginalization.h). A pose graph with no
+// prior leaves the global pose unobserved: its Hessian has a 6-dimensional
+// null space at any single linearization point. Marginalise three poses one
+// after another, moving the remaining estimates between marginalizations (as
+// the window's solves do). With the FEJ points kept as the sliding window
+// keeps them, the remaining graph (priors and factors) still observes nothing
+// of the global pose; linearising each marginalization at the then current
+// values instead gains spurious information there.
+TEST(MarginalizationTest, FirstEstimateJacobiansKeepTheUnobservedDirections) {
+  for (const bool fej : {true, false}) {
+    Graph graph;
+    BuildPoseGraph(&graph, 9, 17);
+    std::vector<FactorId> priors;
+    for (const auto& [id, factor] : graph.factors()) {
+      if (factor.keys.size() == 1) priors.push_back(id);
+    }
+    for (FactorId id : priors) graph.RemoveFactor(id);
+    LinearizationPoints points;
+    TestRng rng(5);
+    const SE3Manifold se3;
+    for (int m = 0; m < 3; ++m) {
+      FactorId prior_id = -1;
+      std::string error;
+      ASSERT_TRUE(MarginalizeNodes(
+          &graph, {Pose3Key(m)}, MarginalizationOptions(),
+          MakeMarginalizationPrior, &prior_id, &error, fej ? &points : nullptr))
+          << error;
+      points.erase(Pose3Key(m));
+      for (const Key& key : graph.FindFactor(prior_id)->keys) {
+        if (fej && points.count(key) == 0) {
+          points[key] = graph.FindNode(key)->value;
+        }
+      }
+      for (const auto& [key, node] : graph.nodes()) {  // A "solve" moves them.
+        Eigen::Matrix<double, 6, 1> delta;
+        delta << 0.05 * rng.Normal3(), 0.05 * rng.Normal3();
+        std::vector<double> moved(7);
+        se3.Plus(node->value.data(), delta.data(), moved.data());
+        node->value = moved;
+      }
+    }
+    const Eigen::MatrixXd h = TotalHessian(graph, points);
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(h);
+    const Eigen::VectorXd values = eig.eigenvalues();  // Ascending.
+    const double sixth = values[5] / values[values.size() - 1];
+    if (fej) {
+      EXPECT_LT(sixth, 1e-12) << "eigenvalues " << values.head(8).transpose();
+    } else {
+      EXPECT_GT(sixth, 1e-6) << "eigenvalues " << values.head(8).transpose();
+    }
   }
 }
 
