@@ -6,7 +6,9 @@
 //   * inertial, end to end on simulated IMU (200 Hz, ADIS16448 white noise
 //     and random-walk biases) + position fixes along a smooth Lissajous
 //     trajectory with varying attitude (datasets/inertial_trajectory.h):
-//     window (10 keyframes) ATE within 10 % of the batch's; NEES of the
+//     window (10 keyframes) ATE within 10 % of the batch's when the window
+//     spans the information horizon (a keyframe per 0.5 Hz fix), within 2x
+//     at 10 Hz keyframes (1 s lag); NEES of the
 //     newest pose (6 dof, window marginal covariance) averaged over 30 runs
 //     within the two-sided 95 % chi-square bounds; biases converge to the
 //     simulated ones within a few sigma; the newest state equals the batch
@@ -207,6 +209,40 @@ TEST(InertialWindowTest, WindowAteWithinTwiceBatchAtOneSecondLag) {
     ASSERT_TRUE(RunBatch(sim.log, options, {}, &cold, nullptr, &error))
         << error;
     EXPECT_NEAR(PositionRmse(sim, cold.smoothed), ate_batch, 1e-3 * ate_batch);
+  }
+}
+
+// The bar, window ATE within 10 % of the batch's, holds when the
+// 10-keyframe window spans the time over which later fixes still inform a
+// state: GNSS/INS-like, a keyframe at every fix. With ADIS16448-grade noise
+// and 0.1 m fixes that horizon is some 10-20 s (accelerometer bias random
+// walk against fix noise), so at 0.5 Hz fixes the window (20 s) is within
+// 10 % (measured with slam simulate + slam inertial, seeds 1-10, 200 s:
+// mean 1.035, worst 1.067; here, seeds 1-3: 0.988, 1.041, 1.023), at 1 Hz
+// (10 s) it is on the edge (mean 1.09,
+// worst 1.12, benchmark) and at 10 Hz keyframes (1 s) far off (1.5-1.8x,
+// WindowAteWithinTwiceBatchAtOneSecondLag).
+TEST(InertialWindowTest,
+     WindowAteWithinTenPercentWhenTheWindowSpansTheHorizon) {
+  InertialOptions options = TestOptions();
+  options.keyframe_rate_hz = 0.5;
+  for (unsigned seed : {1u, 2u, 3u}) {
+    const SimulatedLog sim = Simulate(seed, 200.0, 0.5, options);
+    InertialRun window, batch;
+    std::string error;
+    ASSERT_TRUE(RunSlidingWindow(sim.log, options, &window, nullptr, &error))
+        << error;
+    ASSERT_TRUE(
+        RunBatch(sim.log, options, window.smoothed, &batch, nullptr, &error))
+        << error;
+    ASSERT_EQ(window.smoothed.size(), batch.smoothed.size());
+    EXPECT_EQ(window.smoothed.size(), 101u);  // A keyframe per fix.
+    const double ate_window = PositionRmse(sim, window.smoothed);
+    const double ate_batch = PositionRmse(sim, batch.smoothed);
+    std::printf("seed %u: ATE window %.4f m, batch %.4f m, ratio %.3f\n", seed,
+                ate_window, ate_batch, ate_window / ate_batch);
+    EXPECT_LT(ate_window, 1.10 * ate_batch);
+    EXPECT_LT(ate_batch, 0.15);  // Fixes: 0.1 m per axis (0.17 m in 3D).
   }
 }
 
