@@ -31,6 +31,8 @@ void PreintegratedImu::Reset() {
   num_samples_ = 0;
   covariance_.setZero();
   bias_jacobian_.setZero();
+  drift_cross_.setZero();
+  drift_covariance_.setZero();
 }
 
 void PreintegratedImu::Reset(const ImuBias& bias_lin) {
@@ -78,9 +80,27 @@ bool PreintegratedImu::Integrate(const Eigen::Vector3d& accel,
   const double var_a =
       noise_.accel_noise_density * noise_.accel_noise_density / dt;
   q_diag << var_g, var_g, var_g, var_a, var_a, var_a;
-  covariance_ =
-      A * covariance_ * A.transpose() + B * q_diag.asDiagonal() * B.transpose();
+  // The bias drifts within [i, j) as a random walk beta from b_i (beta = 0
+  // at i); it enters the deltas exactly as a bias change does, through B:
+  //   delta' = A delta + B (n + beta),  beta' = beta + w.
+  // Propagating the joint covariance and keeping the deltas' block gives the
+  // covariance of the preintegrated measurement given b_i.
+  const Eigen::Matrix<double, 9, 9> cross_term =
+      A * drift_cross_ * B.transpose();
+  covariance_ = A * covariance_ * A.transpose() + cross_term +
+                cross_term.transpose() +
+                B *
+                    (drift_covariance_ +
+                     Eigen::Matrix<double, 6, 6>(q_diag.asDiagonal())) *
+                    B.transpose();
   covariance_ = 0.5 * (covariance_ + covariance_.transpose()).eval();
+  drift_cross_ = A * drift_cross_ + B * drift_covariance_;
+  Eigen::Matrix<double, 6, 1> walk;
+  walk << Eigen::Vector3d::Constant(noise_.gyro_random_walk *
+                                    noise_.gyro_random_walk * dt),
+      Eigen::Vector3d::Constant(noise_.accel_random_walk *
+                                noise_.accel_random_walk * dt);
+  drift_covariance_ += walk.asDiagonal();
   bias_jacobian_ = A * bias_jacobian_ + B;
 
   const Eigen::Vector3d a_world = r_half * a;

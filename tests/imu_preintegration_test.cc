@@ -275,11 +275,13 @@ ImuVector9 Deviation(const PreintegratedImu& nominal,
   return d;
 }
 
-TEST(ImuPreintegrationTest, CovarianceMatchesMonteCarlo) {
+// Monte Carlo of the preintegrated deltas over 1 s at 200 Hz: white noise
+// at the given densities and, with `drift`, the bias as a random walk from
+// b_i = 0 (the reading of step k carries beta_k, beta_0 = 0). Compares the
+// sample covariance with covariance() and returns the latter.
+ImuMatrix9 ExpectCovarianceMatchesMonteCarlo(const ImuNoise& noise,
+                                             bool drift) {
   const LissajousTrajectory traj;
-  ImuNoise noise;  // ADIS16448, inflated x10 so that nonlinearity shows.
-  noise.gyro_noise_density *= 10.0;
-  noise.accel_noise_density *= 10.0;
   const double rate = 200.0, t0 = 1.0;
   const int n = 200;
   const double dt = 1.0 / rate;
@@ -295,14 +297,22 @@ TEST(ImuPreintegrationTest, CovarianceMatchesMonteCarlo) {
   const int kRuns = 2000;
   const double sg = noise.gyro_noise_density / std::sqrt(dt);
   const double sa = noise.accel_noise_density / std::sqrt(dt);
+  const double wg = noise.gyro_random_walk * std::sqrt(dt);
+  const double wa = noise.accel_random_walk * std::sqrt(dt);
   ImuMatrix9 sample = ImuMatrix9::Zero();
   ImuVector9 mean = ImuVector9::Zero();
   std::vector<ImuVector9> deviations;
   for (int run = 0; run < kRuns; ++run) {
     PreintegratedImu noisy(noise);
+    Eigen::Vector3d beta_g = Eigen::Vector3d::Zero();
+    Eigen::Vector3d beta_a = Eigen::Vector3d::Zero();
     for (int k = 0; k < n; ++k) {
-      noisy.Integrate(accel[k] + sa * rng.Normal3(),
-                      gyro[k] + sg * rng.Normal3(), dt);
+      noisy.Integrate(accel[k] + beta_a + sa * rng.Normal3(),
+                      gyro[k] + beta_g + sg * rng.Normal3(), dt);
+      if (drift) {
+        beta_g += wg * rng.Normal3();
+        beta_a += wa * rng.Normal3();
+      }
     }
     deviations.push_back(Deviation(nominal, noisy));
     mean += deviations.back();
@@ -325,6 +335,16 @@ TEST(ImuPreintegrationTest, CovarianceMatchesMonteCarlo) {
     // Diagonal within 15 % (its relative sd is sqrt(2 / N) = 3 %).
     EXPECT_NEAR(sample(i, i) / p(i, i), 1.0, 0.15) << "diagonal " << i;
   }
+  return p;
+}
+
+TEST(ImuPreintegrationTest, CovarianceMatchesMonteCarlo) {
+  ImuNoise noise;  // ADIS16448, inflated x10 so that nonlinearity shows.
+  noise.gyro_noise_density *= 10.0;
+  noise.accel_noise_density *= 10.0;
+  noise.gyro_random_walk = 1e-12;  // White noise only.
+  noise.accel_random_walk = 1e-12;
+  const ImuMatrix9 p = ExpectCovarianceMatchesMonteCarlo(noise, false);
   // Not a trivial match: the covariance is far from diagonal (rotation
   // noise drives velocity and position) and grows from zero.
   double max_rv_correlation = 0.0;
@@ -336,6 +356,32 @@ TEST(ImuPreintegrationTest, CovarianceMatchesMonteCarlo) {
   }
   EXPECT_GT(max_rv_correlation, 0.3);
   EXPECT_GT(std::abs(p(6, 3)) / std::sqrt(p(3, 3) * p(6, 6)), 0.5);
+}
+
+// The bias drifts within the interval (random walk from b_i, which the
+// factor holds fixed): covariance() includes that drift. Random walks
+// inflated (x100) until they dominate the white noise, so that a covariance
+// without them would fail the comparison.
+TEST(ImuPreintegrationTest, CovarianceIncludesBiasDriftWithinTheInterval) {
+  ImuNoise noise;
+  noise.gyro_random_walk *= 100.0;
+  noise.accel_random_walk *= 100.0;
+  const ImuMatrix9 with_drift = ExpectCovarianceMatchesMonteCarlo(noise, true);
+  ImuNoise white = noise;
+  white.gyro_random_walk = 1e-12;
+  white.accel_random_walk = 1e-12;
+  PreintegratedImu without(white);
+  const LissajousTrajectory traj;
+  for (int k = 0; k < 200; ++k) {
+    Eigen::Vector3d a, g;
+    TrueReadings(traj, 1.0 + (k + 0.5) / 200.0, DefaultGravity(),
+                 ImuBias::Zero(), &a, &g);
+    without.Integrate(a, g, 1.0 / 200.0);
+  }
+  // The drift is most of the velocity and position uncertainty here.
+  for (int i = 3; i < 9; ++i) {
+    EXPECT_GT(with_drift(i, i), 2.0 * without.covariance()(i, i)) << i;
+  }
 }
 
 TEST(ImuPreintegrationTest, BiasJacobiansMatchReintegration) {
