@@ -26,6 +26,11 @@ bool ComputeMarginals(Graph* graph, const std::vector<Key>& keys,
                       std::map<Key, Eigen::MatrixXd>* covariances,
                       std::string* error);
 
+// The joint covariance of `keys` (with their cross-covariances), blocks in
+// the order of `keys`, each in its node's tangent space. Same conditions.
+bool ComputeJointMarginal(Graph* graph, const std::vector<Key>& keys,
+                          Eigen::MatrixXd* joint, std::string* error);
+
 }  // namespace slam
 
 #endif  // SLAM_CORE_MARGINALS_H_

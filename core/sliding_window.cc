@@ -159,6 +159,12 @@ bool SlidingWindow::Covariances(const std::vector<Key>& keys,
   return ComputeMarginals(&graph_, keys, covariances, error);
 }
 
+bool SlidingWindow::JointCovariance(const std::vector<Key>& keys,
+                                    Eigen::MatrixXd* joint,
+                                    std::string* error) {
+  return ComputeJointMarginal(&graph_, keys, joint, error);
+}
+
 std::vector<std::vector<Key>> SlidingWindow::WindowKeys() const {
   std::vector<std::vector<Key>> keys;
   for (const Keyframe& k : keyframes_) keys.push_back(k.keys);

@@ -88,6 +88,9 @@ class SlidingWindow {
   bool Covariances(const std::vector<Key>& keys,
                    std::map<Key, Eigen::MatrixXd>* covariances,
                    std::string* error);
+  // Joint covariance of `keys` in the current window (core/marginals.h).
+  bool JointCovariance(const std::vector<Key>& keys, Eigen::MatrixXd* joint,
+                       std::string* error);
 
   const Graph& graph() const { return graph_; }
   Graph* mutable_graph() { return &graph_; }

@@ -284,16 +284,12 @@ bool RunSlidingWindow(const InertialData& data, const InertialOptions& options,
     }
     run->filter.push_back(GraphState(window.graph(), id, stamp));
     if (options.newest_covariance) {
-      std::map<Key, Eigen::MatrixXd> cov;
-      if (!window.Covariances({Pose3Key(id), VelocityKey(id), ImuBiasKey(id)},
-                              &cov, error)) {
+      Eigen::MatrixXd c;
+      if (!window.JointCovariance(
+              {Pose3Key(id), VelocityKey(id), ImuBiasKey(id)}, &c, error)) {
         *error = "keyframe " + std::to_string(k) + ": " + *error;
         return false;
       }
-      Eigen::MatrixXd c = Eigen::MatrixXd::Zero(15, 15);
-      c.block<6, 6>(0, 0) = cov[Pose3Key(id)];
-      c.block<3, 3>(6, 6) = cov[VelocityKey(id)];
-      c.block<6, 6>(9, 9) = cov[ImuBiasKey(id)];
       run->newest_covariance.push_back(c);
     }
     if (progress != nullptr && (k + 1) * 10 >= next_report * n) {

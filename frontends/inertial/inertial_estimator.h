@@ -70,9 +70,9 @@ struct InertialRun {
   std::vector<InertialState> filter;    // Newest state right after its update.
   std::vector<InertialState> smoothed;  // Window: value when marginalised
                                         // (fixed lag); batch: the optimum.
-  // With newest_covariance: 15x15 covariance over (pose rho, phi (body,
-  // translation first), velocity, bias) of the newest keyframe after each
-  // update, as `filter`.
+  // With newest_covariance: 15x15 joint covariance (cross-covariances
+  // included) over (pose rho, phi (body, translation first), velocity, bias)
+  // of the newest keyframe after each update, as `filter`.
   std::vector<Eigen::MatrixXd> newest_covariance;
   std::vector<double> update_seconds;  // Window updates.
   double total_seconds = 0.0;
