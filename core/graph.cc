@@ -245,31 +245,36 @@ bool Graph::FactorChi2(const Factor& factor, double* chi2) const {
 }
 
 double Graph::Chi2() const {
-  double sum = 0.0;
-  for (const auto& [id, factor] : factors_) {
-    double chi2 = 0.0;
-    if (!FactorChi2(factor, &chi2))
-      return std::numeric_limits<double>::infinity();
-    sum += chi2;
-  }
-  return sum;
+  double chi2, robust_chi2;
+  Chi2AndRobustChi2(&chi2, &robust_chi2);
+  return chi2;
 }
 
 double Graph::RobustChi2() const {
-  double sum = 0.0;
+  double chi2, robust_chi2;
+  Chi2AndRobustChi2(&chi2, &robust_chi2);
+  return robust_chi2;
+}
+
+void Graph::Chi2AndRobustChi2(double* chi2, double* robust_chi2) const {
+  double sum = 0.0, robust_sum = 0.0;
   for (const auto& [id, factor] : factors_) {
-    double chi2 = 0.0;
-    if (!FactorChi2(factor, &chi2))
-      return std::numeric_limits<double>::infinity();
+    double c = 0.0;
+    if (!FactorChi2(factor, &c)) {
+      *chi2 = *robust_chi2 = std::numeric_limits<double>::infinity();
+      return;
+    }
+    sum += c;
     if (factor.loss) {
       double rho[3];
-      factor.loss->Evaluate(chi2, rho);
-      sum += rho[0];
+      factor.loss->Evaluate(c, rho);
+      robust_sum += rho[0];
     } else {
-      sum += chi2;
+      robust_sum += c;
     }
   }
-  return sum;
+  *chi2 = sum;
+  *robust_chi2 = robust_sum;
 }
 
 Pose2 MeasurementPose2(const Factor& factor) {

@@ -137,6 +137,8 @@ class Graph {
   // sum over factors of rho(e^T Omega e): what a robust optimizer minimizes,
   // in the same (no 1/2) scale.
   double RobustChi2() const;
+  // Both in one pass over the factors.
+  void Chi2AndRobustChi2(double* chi2, double* robust_chi2) const;
 
  private:
   std::map<Key, std::unique_ptr<Node>> nodes_;

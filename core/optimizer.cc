@@ -174,8 +174,7 @@ OptimizerSummary Optimize(Graph* graph, const OptimizerOptions& options,
                           std::ostream* progress) {
   OptimizerSummary summary;
   const auto start = std::chrono::steady_clock::now();
-  summary.initial_chi2 = graph->Chi2();
-  summary.initial_robust_chi2 = graph->RobustChi2();
+  graph->Chi2AndRobustChi2(&summary.initial_chi2, &summary.initial_robust_chi2);
 
   ceres::Problem problem(Graph::ProblemOptions());
   graph->BuildProblem(&problem);
@@ -324,8 +323,7 @@ OptimizerSummary Optimize(Graph* graph, const OptimizerOptions& options,
   summary.full_report = ceres_summary.FullReport();
   summary.linear_solver =
       ceres::LinearSolverTypeToString(ceres_summary.linear_solver_type_used);
-  summary.final_chi2 = graph->Chi2();
-  summary.final_robust_chi2 = graph->RobustChi2();
+  graph->Chi2AndRobustChi2(&summary.final_chi2, &summary.final_robust_chi2);
   summary.solve_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
           .count();

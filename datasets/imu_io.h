@@ -28,7 +28,7 @@
 //   gyro 0.000205689024915 (continuous sigmas), accel bias random walk
 //   0.004905, gyro bias random walk 0.000001454441043, GPS sigma 1 m.
 //   The writer writes rows in stamp order (a fix before the IMU rows with
-//   stamps >= its own), numbers with 17 significant digits.
+//   stamps >= its own), numbers in shortest round-trip digits.
 //
 //   EuRoC MAV folder (ASL format), readings in the sensor frame S = body:
 //     mav0/imu0/data.csv    "#timestamp [ns],w_RS_S_x [rad s^-1],w_RS_S_y,
@@ -47,7 +47,7 @@
 //   Lines starting with '#' and blank lines are skipped; fields may carry
 //   spaces around them. Gravity: (0, 0, -9.81) (world z up).
 //   The writer creates the folders and writes each file atomically
-//   (temporary file + rename), numbers with 17 significant digits.
+//   (temporary file + rename), numbers in shortest round-trip digits.
 //
 // Errors: "PATH:LINE: problem" (wrong field count, bad number, unknown row
 // type, non-increasing stamp, zero quaternion), or "PATH: problem".

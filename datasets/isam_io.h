@@ -27,7 +27,7 @@
 // - The writer writes the graph's SE(2) between factors as ODOMETRY and its
 //   relative-point factors as LANDMARK, in FactorId order (the format holds
 //   nothing else: a graph with other factors or SE(3) poses is rejected);
-//   node values are not written. Atomic, %.17g.
+//   node values are not written. Atomic, shortest round-trip digits.
 #ifndef SLAM_DATASETS_ISAM_IO_H_
 #define SLAM_DATASETS_ISAM_IO_H_
 

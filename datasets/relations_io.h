@@ -12,7 +12,7 @@
 //
 // Errors: "PATH:LINE: problem" (field count, bad or non-finite number, a bad
 // stamp); a file without relations is an error. The writer prints numbers
-// with 17 significant digits and stamps exactly, through a temporary file.
+// in shortest round-trip digits and stamps exactly, through a temporary file.
 #ifndef SLAM_DATASETS_RELATIONS_IO_H_
 #define SLAM_DATASETS_RELATIONS_IO_H_
 

@@ -197,8 +197,8 @@ bool ParseId(const std::vector<std::string_view>& tokens, size_t index,
 
 void AppendDouble(double value, std::string* out) {
   char buffer[64];
-  const std::to_chars_result r = std::to_chars(
-      buffer, buffer + sizeof(buffer), value, std::chars_format::general, 17);
+  const std::to_chars_result r =
+      std::to_chars(buffer, buffer + sizeof(buffer), value);
   out->append(buffer, r.ptr);
 }
 

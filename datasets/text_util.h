@@ -1,6 +1,6 @@
 // Helpers shared by the text pose-graph readers and writers (g2o_io.cc,
 // toro_io.cc): whole-file reading, a fast line tokenizer, strict number
-// parsing, %.17g number printing, atomic file replacement, and the builder
+// parsing, round-trip number printing, atomic file replacement, and the builder
 // that turns parsed records into a Graph with the checks and the
 // initialization common to both formats.
 #ifndef SLAM_DATASETS_TEXT_UTIL_H_
@@ -74,8 +74,10 @@ bool ParseDoubles(const std::vector<std::string_view>& tokens, size_t first,
 bool ParseId(const std::vector<std::string_view>& tokens, size_t index,
              int64_t* id, std::string* problem);
 
-// Appends the number as printf("%.17g") prints it (17 significant digits:
-// reading it back gives the same double, bit for bit), or an integer.
+// Appends the shortest decimal that reads back as the same double, bit for
+// bit (std::to_chars without a precision: 0.05, not %.17g's
+// 0.050000000000000003; up to 17 digits where needed; an integer when the
+// value is one; exponent notation when shorter).
 void AppendDouble(double value, std::string* out);
 void AppendInt(int64_t value, std::string* out);
 

@@ -343,7 +343,7 @@ TEST(OptimizeCommandTest, SimulatedGraphKnownAnswer) {
   EXPECT_EQ(eval["ape_translation"].Number("count"), nodes);
 
   // The output parses and holds the optimized poses: its chi2 is the final
-  // chi2 of the report (the writer prints 17 digits).
+  // chi2 of the report (the writer prints round-trip digits).
   Graph graph;
   std::string error;
   GraphReadReport read_report;
