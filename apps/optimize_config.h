@@ -16,7 +16,7 @@
 //                           # eliminated first when there are landmarks)
 //     ordering: auto        # auto | amd | metis | nesdis | ceres
 //     sparse_library: auto  # auto | suite_sparse | eigen_sparse | cx_sparse
-//     num_threads: 2
+//     num_threads: 1        # Ceres threads (1 measured fastest on 2 cores)
 //     verbose: true         # one line per iteration
 //     repair_information: false
 //     robust:               # kernel per factor kind: KIND[:WIDTH]
