@@ -467,6 +467,52 @@ bool SafeForNumericDiff(const Vector6d& e) {
   return e.tail<3>().squaredNorm() < 1.0 - 0.05 * 0.05;
 }
 
+// Create() is analytic (BetweenSE3CostFunction); the functor's automatic
+// differentiation is the reference: same residual, same tangent-space
+// Jacobians (J_ambient times the manifold's PlusJacobian), at random poses,
+// large rotations and negated quaternions included (only the w = 0 flip of
+// the error quaternion, where the residual jumps, is left out).
+TEST(BetweenSE3FactorTest, AnalyticJacobiansMatchAutoDiff) {
+  Rng rng(12);
+  const SE3Manifold se3;
+  using RowMajor76 = Eigen::Matrix<double, 6, 7, Eigen::RowMajor>;
+  using RowMajor73 = Eigen::Matrix<double, 7, 6, Eigen::RowMajor>;
+  for (int trial = 0; trial < 200; ++trial) {
+    Pose3 xi = rng.RandomPose3();
+    Pose3 xj = rng.RandomPose3();
+    if (trial % 3 == 1) xi = NegatedQuaternion(xi);
+    if (trial % 5 == 2) xj = NegatedQuaternion(xj);
+    const Pose3 z = trial % 2 == 0 ? rng.RandomPose3(5.0)
+                                   : Perturb(xi.Inverse() * xj, &rng, 0.3);
+    const Vector6d e = G2oErrorBetweenSE3(xi, xj, z);
+    if (e.tail<3>().squaredNorm() > 1.0 - 1e-6) continue;
+    const Matrix6d sqrt_info = ReferenceSqrt(rng.ScaledInformation(6));
+    std::unique_ptr<ceres::CostFunction> analytic(
+        BetweenSE3Factor::Create(z.t, z.q, sqrt_info));
+    std::unique_ptr<ceres::CostFunction> autodiff(
+        BetweenSE3Factor::CreateAutoDiff(z.t, z.q, sqrt_info));
+    const std::vector<double> vi = Pose3Value(xi), vj = Pose3Value(xj);
+    const double* params[2] = {vi.data(), vj.data()};
+    Vector6d r_an, r_ad;
+    RowMajor76 j_an[2], j_ad[2];
+    double* jp_an[2] = {j_an[0].data(), j_an[1].data()};
+    double* jp_ad[2] = {j_ad[0].data(), j_ad[1].data()};
+    ASSERT_TRUE(analytic->Evaluate(params, r_an.data(), jp_an));
+    ASSERT_TRUE(autodiff->Evaluate(params, r_ad.data(), jp_ad));
+    EXPECT_LT((r_an - r_ad).norm(), 1e-12 * std::max(1.0, r_ad.norm()));
+    for (int k = 0; k < 2; ++k) {
+      RowMajor73 plus;
+      se3.PlusJacobian(params[k], plus.data());
+      const Matrix6d t_an = j_an[k] * plus;
+      const Matrix6d t_ad = j_ad[k] * plus;
+      EXPECT_LT((t_an - t_ad).norm(), 1e-10 * std::max(1.0, t_ad.norm()))
+          << "trial " << trial << " block " << k << "\nanalytic\n"
+          << t_an << "\nautodiff\n"
+          << t_ad;
+    }
+  }
+}
+
 TEST(BetweenSE3FactorTest, JacobiansMatchNumericInTangentSpace) {
   Rng rng(10);
   const SE3Manifold se3;
