@@ -368,6 +368,66 @@ TEST(PriorSE2FactorTest, ZeroAtTheMeasurementAndJacobians) {
   }
 }
 
+// Evaluates `analytic` and `reference` (two parameter blocks on `manifold`)
+// and expects the same residual and the same tangent-space Jacobians
+// (ambient Jacobian times the manifold's PlusJacobian).
+void ExpectSameTangentEvaluation(const ceres::CostFunction& analytic,
+                                 const ceres::CostFunction& reference,
+                                 const double* const* params,
+                                 const ceres::Manifold& manifold,
+                                 const std::string& what) {
+  using RowMajor =
+      Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  const int rows = analytic.num_residuals();
+  const int ambient = manifold.AmbientSize();
+  Eigen::VectorXd r[2] = {Eigen::VectorXd(rows), Eigen::VectorXd(rows)};
+  RowMajor j[2][2];
+  const ceres::CostFunction* functions[2] = {&analytic, &reference};
+  for (int f = 0; f < 2; ++f) {
+    double* ptrs[2];
+    for (int k = 0; k < 2; ++k) {
+      j[f][k].resize(rows, ambient);
+      ptrs[k] = j[f][k].data();
+    }
+    ASSERT_TRUE(functions[f]->Evaluate(params, r[f].data(), ptrs)) << what;
+  }
+  EXPECT_LT((r[0] - r[1]).norm(), 1e-12 * std::max(1.0, r[1].norm())) << what;
+  for (int k = 0; k < 2; ++k) {
+    RowMajor plus(ambient, manifold.TangentSize());
+    manifold.PlusJacobian(params[k], plus.data());
+    const Eigen::MatrixXd t_an = j[0][k] * plus;
+    const Eigen::MatrixXd t_ref = j[1][k] * plus;
+    EXPECT_LT((t_an - t_ref).norm(), 1e-10 * std::max(1.0, t_ref.norm()))
+        << what << " block " << k << "\nanalytic\n"
+        << t_an << "\nreference\n"
+        << t_ref;
+  }
+}
+
+// Create() is analytic (BetweenSE2CostFunction); the functor's automatic
+// differentiation is the reference: same residual and Jacobians over the
+// stored (x, y, theta) at random poses (both wrap the angle error alike).
+TEST(BetweenSE2FactorTest, AnalyticJacobiansMatchAutoDiff) {
+  Rng rng(13);
+  const SE2Manifold se2;
+  for (int trial = 0; trial < 200; ++trial) {
+    const Pose2 xi = rng.RandomPose2();
+    const Pose2 xj = rng.RandomPose2();
+    const Pose2 z = trial % 2 == 0 ? rng.RandomPose2()
+                                   : Perturb(xi.Inverse() * xj, &rng, 0.3);
+    const Eigen::Matrix3d sqrt_info = ReferenceSqrt(rng.ScaledInformation(3));
+    const Eigen::Vector3d m(z.t.x(), z.t.y(), z.theta);
+    std::unique_ptr<ceres::CostFunction> analytic(
+        BetweenSE2Factor::Create(m, sqrt_info));
+    std::unique_ptr<ceres::CostFunction> autodiff(
+        BetweenSE2Factor::CreateAutoDiff(m, sqrt_info));
+    const std::vector<double> vi = Pose2Value(xi), vj = Pose2Value(xj);
+    const double* params[2] = {vi.data(), vj.data()};
+    ExpectSameTangentEvaluation(*analytic, *autodiff, params, se2,
+                                "trial " + std::to_string(trial));
+  }
+}
+
 // ---------------------------------------------------------------------------
 // Between SE(3).
 
@@ -475,8 +535,6 @@ bool SafeForNumericDiff(const Vector6d& e) {
 TEST(BetweenSE3FactorTest, AnalyticJacobiansMatchAutoDiff) {
   Rng rng(12);
   const SE3Manifold se3;
-  using RowMajor76 = Eigen::Matrix<double, 6, 7, Eigen::RowMajor>;
-  using RowMajor73 = Eigen::Matrix<double, 7, 6, Eigen::RowMajor>;
   for (int trial = 0; trial < 200; ++trial) {
     Pose3 xi = rng.RandomPose3();
     Pose3 xj = rng.RandomPose3();
@@ -493,23 +551,8 @@ TEST(BetweenSE3FactorTest, AnalyticJacobiansMatchAutoDiff) {
         BetweenSE3Factor::CreateAutoDiff(z.t, z.q, sqrt_info));
     const std::vector<double> vi = Pose3Value(xi), vj = Pose3Value(xj);
     const double* params[2] = {vi.data(), vj.data()};
-    Vector6d r_an, r_ad;
-    RowMajor76 j_an[2], j_ad[2];
-    double* jp_an[2] = {j_an[0].data(), j_an[1].data()};
-    double* jp_ad[2] = {j_ad[0].data(), j_ad[1].data()};
-    ASSERT_TRUE(analytic->Evaluate(params, r_an.data(), jp_an));
-    ASSERT_TRUE(autodiff->Evaluate(params, r_ad.data(), jp_ad));
-    EXPECT_LT((r_an - r_ad).norm(), 1e-12 * std::max(1.0, r_ad.norm()));
-    for (int k = 0; k < 2; ++k) {
-      RowMajor73 plus;
-      se3.PlusJacobian(params[k], plus.data());
-      const Matrix6d t_an = j_an[k] * plus;
-      const Matrix6d t_ad = j_ad[k] * plus;
-      EXPECT_LT((t_an - t_ad).norm(), 1e-10 * std::max(1.0, t_ad.norm()))
-          << "trial " << trial << " block " << k << "\nanalytic\n"
-          << t_an << "\nautodiff\n"
-          << t_ad;
-    }
+    ExpectSameTangentEvaluation(*analytic, *autodiff, params, se3,
+                                "trial " + std::to_string(trial));
   }
 }
 
