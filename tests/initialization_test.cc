@@ -596,7 +596,7 @@ TEST(Initialization3DTest, ChordalRotationsFollowAnisotropicInformation) {
       }
     };
     Graph graph;
-    Eigen::Vector3d plain_mean;
+    Eigen::Vector3d plain_mean = Eigen::Vector3d::Zero();
     build(&graph, &plain_mean);
     std::string error;
     ASSERT_TRUE(InitializePoses(&graph, InitMethod::kChordal, &error))
