@@ -139,8 +139,9 @@ bool ComputeMarginalizationPrior(
       jacobian_ptrs[k] = ambient_jacobians[k].data();
     }
     Eigen::VectorXd r(rows);
-    Eigen::VectorXd r_lin(rows);
-    if (!factor.cost->Evaluate(lin_params.data(), r_lin.data(),
+    // Jacobians at the linearization point; the residual at the current
+    // values (moved to the linearization point below).
+    if (!factor.cost->Evaluate(lin_params.data(), r.data(),
                                jacobian_ptrs.data()) ||
         (shifted && !factor.cost->Evaluate(params.data(), r.data(), nullptr))) {
       *error = "cannot marginalise: the cost function of factor " +
@@ -148,7 +149,6 @@ bool ComputeMarginalizationPrior(
                ") failed to evaluate";
       return false;
     }
-    if (!shifted) r = r_lin;
     // Tangent Jacobian over the columns of this factor's free blocks.
     std::vector<int> cols;
     std::vector<int> block_offset;

@@ -153,12 +153,6 @@ bool SlidingWindow::MarginalizeOldest(std::string* error) {
   return true;
 }
 
-bool SlidingWindow::Covariances(const std::vector<Key>& keys,
-                                std::map<Key, Eigen::MatrixXd>* covariances,
-                                std::string* error) {
-  return ComputeMarginals(&graph_, keys, covariances, error);
-}
-
 bool SlidingWindow::JointCovariance(const std::vector<Key>& keys,
                                     Eigen::MatrixXd* joint,
                                     std::string* error) {

@@ -84,10 +84,6 @@ class SlidingWindow {
   // Optimizes the window; marginalises the oldest keyframe when full.
   bool Update(WindowUpdateStats* stats, std::string* error);
 
-  // Marginal covariances (tangent space, core/marginals.h) of window nodes.
-  bool Covariances(const std::vector<Key>& keys,
-                   std::map<Key, Eigen::MatrixXd>* covariances,
-                   std::string* error);
   // Joint covariance of `keys` in the current window (core/marginals.h).
   bool JointCovariance(const std::vector<Key>& keys, Eigen::MatrixXd* joint,
                        std::string* error);
