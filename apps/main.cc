@@ -5,6 +5,14 @@
 //   slam simulate -o DIR [flags]                 synthetic data with truth
 //   slam run --config configs/aces.yaml          2D laser SLAM on a CARMEN log
 //   slam inertial -i IN -o DIR [flags]           IMU window / batch
+//   slam run --config configs/kitti_stereo.yaml  stereo visual odometry
+//
+// Two binaries are built from this file. `slam-visual` (SLAM_VISUAL_COMMANDS)
+// has every command, including those that read images (run, which also runs
+// the stereo pipeline, and the place-recognition commands); `slam` has the
+// rest and hands the image commands to slam-visual with the same arguments
+// (apps/visual_forward.h) before parsing any flag, so that pose-graph and
+// evaluation runs do not load OpenCV's image libraries.
 //
 // `slam <command> --help` lists the flags. Every setting also has a YAML
 // form (--config FILE); --dump_config prints the effective configuration.
@@ -19,6 +27,10 @@
 
 #include "apps/commands.h"
 #include "apps/process_heap.h"
+#include "apps/visual_forward.h"
+#ifdef SLAM_VISUAL_COMMANDS
+#include "apps/visual/visual_commands.h"
+#endif
 
 namespace {
 
@@ -26,6 +38,15 @@ struct Command {
   std::function<int(const std::vector<std::string>&)> run;
   const char* summary;
 };
+
+// The image commands: run in-process by slam-visual; `slam` forwards them
+// before they could be looked up here (IsVisualCommand), so its entries
+// only serve the usage text.
+#ifdef SLAM_VISUAL_COMMANDS
+constexpr auto kRun = &slam::RunRunOrStereoCommand;
+#else
+constexpr auto kRun = &slam::RunForwardedCommand;
+#endif
 
 const std::map<std::string, Command>& Commands() {
   static const auto* commands = new std::map<std::string, Command>{
@@ -37,8 +58,9 @@ const std::map<std::string, Command>& Commands() {
        {slam::RunEvalCommand,
         "ATE/RPE of a trajectory: slam eval --ref GT --est EST [--plot DIR]"}},
       {"run",
-       {slam::RunRunCommand,
-        "2D laser SLAM on a CARMEN log: slam run --config configs/aces.yaml"}},
+       {kRun,
+        "2D laser SLAM on a CARMEN log or stereo visual odometry on a KITTI "
+        "folder: slam run --config configs/aces.yaml|kitti_stereo.yaml"}},
       {"inertial",
        {slam::RunInertialCommand,
         "IMU + position fixes: slam inertial -i EUROC_DIR|GTSAM.csv -o DIR"}},
@@ -68,6 +90,10 @@ int main(int argc, char** argv) {
     return argc < 2 ? 2 : 0;
   }
   const std::string name = argv[1];
+#ifndef SLAM_VISUAL_COMMANDS
+  if (slam::IsVisualCommand(name))
+    return slam::ForwardToVisualBinary(argc, argv);
+#endif
   auto it = Commands().find(name);
   if (it == Commands().end()) {
     std::fprintf(stderr, "slam: unknown command '%s'\n\n", name.c_str());
