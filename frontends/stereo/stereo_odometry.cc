@@ -48,6 +48,8 @@ bool ValidateStereoOdometryConfig(const StereoOdometryConfig& c,
     *error = message;
     return false;
   };
+  if (!(c.stereo_depth_baselines > 0))
+    return fail("stereo_depth_baselines must be > 0");
   if (!(c.pixel_sigma > 0) || !(c.scale_factor >= 1) || !(c.chi2_stereo > 0) ||
       !(c.chi2_mono > 0))
     return fail("pixel_sigma, chi2 thresholds must be > 0, scale_factor >= 1");
@@ -266,7 +268,9 @@ bool StereoOdometry::MakeObservationFactor(const StereoFeatureFrame& frame,
       config_.pixel_sigma * std::pow(config_.scale_factor, k.octave);
   const double info = 1.0 / (sigma * sigma);
   std::string error;
-  if (frame.HasStereo(keypoint)) {
+  if (frame.HasStereo(keypoint) &&
+      frame.keypoints[keypoint].pt.x - frame.u_right[keypoint] >=
+          calibration_.fx / config_.stereo_depth_baselines) {
     return MakeStereo(camera, point, calibration_,
                       Eigen::Vector3d(k.pt.x, frame.u_right[keypoint], k.pt.y),
                       info * Eigen::Matrix3d::Identity(), factor, &error);
@@ -394,7 +398,7 @@ int64_t StereoOdometry::AddKeyframe(const StereoFeatureFrame& frame,
     point_alive_.push_back(true);
     graph_.AddNode(Point3Key(pid), {pw.x(), pw.y(), pw.z()});
     if (!observe(static_cast<int>(i), pid)) {
-      graph_.RemoveNode(Point3Key(pid));
+      dead_points_.push_back(Point3Key(pid));
       point_alive_[pid] = false;
       continue;
     }
@@ -420,7 +424,7 @@ void StereoOdometry::RemoveObservation(int64_t point, size_t observation) {
   mp.observations.erase(mp.observations.begin() + observation);
   ++stats_.observations_removed;
   if (mp.observations.empty()) {
-    graph_.RemoveNode(Point3Key(point));
+    dead_points_.push_back(Point3Key(point));
     point_alive_[point] = false;
   }
 }
@@ -511,6 +515,12 @@ void StereoOdometry::LocalBundleAdjustment(int64_t newest) {
   if (check >= 0) {
     for (int64_t p : keyframes_[check].created_points) CullPoint(p);
   }
+  RemoveDeadPoints();
+}
+
+void StereoOdometry::RemoveDeadPoints() {
+  graph_.RemoveNodes(dead_points_);
+  dead_points_.clear();
 }
 
 StereoFrameResult StereoOdometry::AddFrame(const StereoFeatureFrame& frame) {
@@ -547,7 +557,7 @@ StereoFrameResult StereoOdometry::AddFrame(const StereoFeatureFrame& frame) {
       SearchByProjection(frame, predicted, local, config_.search_radius);
   result.matches = static_cast<int>(matches.size());
   Pose3 pose = predicted;
-  int inliers = static_cast<int>(matches.size()) >= config_.min_inliers
+  int inliers = static_cast<int>(matches.size()) >= 6
                     ? OptimizePose(frame, &matches, &pose)
                     : 0;
   if (inliers >= config_.min_inliers) {
@@ -630,6 +640,7 @@ void StereoOdometry::Finish() {
   for (size_t p = 0; p < points_.size(); ++p) {
     CullPoint(static_cast<int64_t>(p));
   }
+  RemoveDeadPoints();
   if (config_.final_ba_iterations <= 0 || keyframes_.size() < 2) return;
   const auto start = std::chrono::steady_clock::now();
   ceres::Problem problem(Graph::ProblemOptions());
@@ -660,6 +671,7 @@ void StereoOdometry::Finish() {
     if (point_alive_[p]) all.push_back(static_cast<int64_t>(p));
   }
   RemoveOutlierObservations(all);
+  RemoveDeadPoints();
   stats_.final_ba_ms = MsSince(start);
 }
 

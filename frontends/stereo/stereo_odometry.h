@@ -71,10 +71,21 @@ namespace slam {
 
 struct StereoOdometryConfig {
   // Measurement noise and the outlier tests.
-  double pixel_sigma = 1.0;    // At octave 0; times scale_factor^octave.
+  // Keypoint noise at octave 0, times scale_factor^octave: FAST corners sit
+  // on whole pixels (0.29 px from rounding alone) and move by about as
+  // much between views; the whitened residuals of the KITTI excerpt have an
+  // RMS near 0.3 px.
+  double pixel_sigma = 0.5;
   double scale_factor = 1.2;   // Of the feature pyramid.
   double chi2_stereo = 7.815;  // 95 % of chi2 with 3 dof.
   double chi2_mono = 5.991;    // 95 % of chi2 with 2 dof.
+  // Observations of points farther than this many baselines (disparity
+  // below fx / stereo_depth_baselines) are monocular (u, v) factors even
+  // when the right image matched: a constant disparity error of a tenth of
+  // a pixel is a percent of depth at 5 px, and the far points then bias
+  // the scale; their bearing still serves the rotation, and their depth
+  // follows from the parallax between keyframes.
+  double stereo_depth_baselines = 40.0;
   // Tracking.
   int local_map_keyframes = 10;
   double search_radius = 15.0;  // Pixels at octave 0.
@@ -231,6 +242,10 @@ class StereoOdometry {
   std::vector<Keyframe> keyframes_;  // Index = keyframe id.
   std::vector<MapPoint> points_;     // Index = point id (may be removed).
   std::vector<bool> point_alive_;
+  // Point nodes left without observations, removed from the graph in one
+  // pass (RemoveDeadPoints) rather than one scan of the factors each.
+  std::vector<Key> dead_points_;
+  void RemoveDeadPoints();
   std::vector<FrameRecord> frames_;
   Pose3 last_motion_;  // T_prev^-1 T_current.
   int frames_since_keyframe_ = 0;
