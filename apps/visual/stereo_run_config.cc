@@ -33,7 +33,6 @@ Section Schema(StereoRunConfig* c) {
        {"tracking",
         {D("pixel_sigma", &o.pixel_sigma), D("chi2_stereo", &o.chi2_stereo),
          D("chi2_mono", &o.chi2_mono),
-         D("stereo_depth_baselines", &o.stereo_depth_baselines),
          I("local_map_keyframes", &o.local_map_keyframes),
          D("search_radius", &o.search_radius),
          I("max_descriptor_distance", &o.max_descriptor_distance),

@@ -48,8 +48,6 @@ bool ValidateStereoOdometryConfig(const StereoOdometryConfig& c,
     *error = message;
     return false;
   };
-  if (!(c.stereo_depth_baselines > 0))
-    return fail("stereo_depth_baselines must be > 0");
   if (!(c.pixel_sigma > 0) || !(c.scale_factor >= 1) || !(c.chi2_stereo > 0) ||
       !(c.chi2_mono > 0))
     return fail("pixel_sigma, chi2 thresholds must be > 0, scale_factor >= 1");
@@ -268,9 +266,7 @@ bool StereoOdometry::MakeObservationFactor(const StereoFeatureFrame& frame,
       config_.pixel_sigma * std::pow(config_.scale_factor, k.octave);
   const double info = 1.0 / (sigma * sigma);
   std::string error;
-  if (frame.HasStereo(keypoint) &&
-      frame.keypoints[keypoint].pt.x - frame.u_right[keypoint] >=
-          calibration_.fx / config_.stereo_depth_baselines) {
+  if (frame.HasStereo(keypoint)) {
     return MakeStereo(camera, point, calibration_,
                       Eigen::Vector3d(k.pt.x, frame.u_right[keypoint], k.pt.y),
                       info * Eigen::Matrix3d::Identity(), factor, &error);
@@ -702,8 +698,9 @@ std::vector<StereoOdometry::PointTrack> StereoOdometry::PointTracks() const {
     PointTrack t;
     t.point = static_cast<int64_t>(p);
     for (const Observation& o : points_[p].observations) {
-      t.observations.emplace_back(keyframes_[o.keyframe].frame_index,
-                                  o.keypoint);
+      t.observations.push_back(
+          {keyframes_[o.keyframe].frame_index, o.keypoint,
+           graph_.FindFactor(o.factor)->type == FactorType::kStereo});
     }
     tracks.push_back(std::move(t));
   }

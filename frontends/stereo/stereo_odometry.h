@@ -79,13 +79,6 @@ struct StereoOdometryConfig {
   double scale_factor = 1.2;   // Of the feature pyramid.
   double chi2_stereo = 7.815;  // 95 % of chi2 with 3 dof.
   double chi2_mono = 5.991;    // 95 % of chi2 with 2 dof.
-  // Observations of points farther than this many baselines (disparity
-  // below fx / stereo_depth_baselines) are monocular (u, v) factors even
-  // when the right image matched: a constant disparity error of a tenth of
-  // a pixel is a percent of depth at 5 px, and the far points then bias
-  // the scale; their bearing still serves the rotation, and their depth
-  // follows from the parallax between keyframes.
-  double stereo_depth_baselines = 40.0;
   // Tracking.
   int local_map_keyframes = 10;
   double search_radius = 15.0;  // Pixels at octave 0.
@@ -93,7 +86,7 @@ struct StereoOdometryConfig {
   double match_ratio = 0.9;
   int pose_rounds = 4;
   int pose_iterations = 10;  // Per round.
-  int min_inliers = 30;
+  int min_inliers = 15;
   // PnP-RANSAC fallback.
   double pnp_reprojection_error = 3.0;  // Pixels.
   int pnp_iterations = 300;
@@ -163,10 +156,16 @@ class StereoOdometry {
   const Graph& graph() const { return graph_; }
   std::vector<Eigen::Vector3d> MapPoints() const;
   // Each live map point's graph id and its observations: the frame index
-  // of the observing keyframe and the keypoint index in that frame.
+  // of the observing keyframe, the keypoint index in that frame, and
+  // whether it is a stereo (else monocular) factor.
+  struct TrackObservation {
+    int64_t frame = 0;
+    int keypoint = 0;
+    bool stereo = false;
+  };
   struct PointTrack {
     int64_t point = 0;
-    std::vector<std::pair<int64_t, int>> observations;
+    std::vector<TrackObservation> observations;
   };
   std::vector<PointTrack> PointTracks() const;
   // The graph for computations that need write access (marginals).
@@ -220,6 +219,7 @@ class StereoOdometry {
   // Step 4; returns the number of inliers and keeps only them in *matches.
   int OptimizePose(const StereoFeatureFrame& frame, std::vector<Match>* matches,
                    Pose3* pose) const;
+  // A stereo factor for a stereo keypoint, else a monocular one.
   bool MakeObservationFactor(const StereoFeatureFrame& frame, int keypoint,
                              const Key& camera, const Key& point,
                              Factor* factor) const;
