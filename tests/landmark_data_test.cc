@@ -318,5 +318,27 @@ TEST(LandmarkDataTest, RealLandmarkGraphsRoundTrip) {
   }
 }
 
+// iSAM's sphere400.txt (EDGE3 lines only): read as iSAM's square-root
+// information (translation sqrt 10 -> information 100; TORO's reading took
+// 10), 400 poses and 779 constraints as isam_data_README.txt says.
+TEST(LandmarkDataTest, IsamSphere400IsReadWithSquareRootInformation) {
+  const std::string path = DatasetPath("isam_format/isam_sphere400.txt");
+  SLAM_REQUIRE_DATASET(path);
+  Graph graph;
+  GraphReadReport report;
+  std::string error;
+  ASSERT_TRUE(ReadPoseGraph(path, {}, &graph, &report, &error)) << error;
+  EXPECT_EQ(graph.NumNodes(), 400u);
+  EXPECT_EQ(graph.NumFactors(), 779u);
+  ASSERT_EQ(report.warnings.size(), 1u);
+  EXPECT_TRUE(::slam::testing::Contains(report.warnings[0], "read as iSAM"));
+  for (const auto& [id, f] : graph.factors()) {
+    ASSERT_EQ(f.type, FactorType::kBetweenSE3);
+    // Isotropic translation information: R_z^T (100 I) R_z = 100 I.
+    const Eigen::Matrix3d info_t = f.information.topLeftCorner(3, 3);
+    EXPECT_NEAR(info_t.trace(), 300.0, 1e-9);
+  }
+}
+
 }  // namespace
 }  // namespace slam
