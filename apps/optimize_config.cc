@@ -31,13 +31,14 @@ bool LoadOptimizeConfig(const std::string& path, OptimizeConfig* config,
   if (!CheckTopLevelSections(root, path, error)) return false;
   const YAML::Node node = root["optimize"];
   if (!node) return true;
-  if (!CheckKnownKeys(node,
-                      {"init", "solver", "max_iterations", "function_tolerance",
-                       "gradient_tolerance", "parameter_tolerance",
-                       "initial_trust_region_radius", "linear_solver",
-                       "ordering", "sparse_library", "num_threads", "verbose",
-                       "repair_information", "robust", "nonmonotonic_steps"},
-                      path, error)) {
+  if (!CheckKnownKeys(
+          node,
+          {"init", "solver", "max_iterations", "function_tolerance",
+           "gradient_tolerance", "parameter_tolerance",
+           "initial_trust_region_radius", "linear_solver", "ordering",
+           "sparse_library", "num_threads", "verbose", "repair_information",
+           "robust", "nonmonotonic_steps", "landmark_stages"},
+          path, error)) {
     return false;
   }
   OptimizerOptions& o = config->optimizer;
@@ -61,7 +62,9 @@ bool LoadOptimizeConfig(const std::string& path, OptimizeConfig* config,
       !ReadOptional(node, "num_threads", path, &o.num_threads, error) ||
       !ReadOptional(node, "verbose", path, &o.verbose, error) ||
       !ReadOptional(node, "repair_information", path,
-                    &config->repair_information, error)) {
+                    &config->repair_information, error) ||
+      !ReadOptional(node, "landmark_stages", path, &config->landmark_stages,
+                    error)) {
     return false;
   }
   if (!ParseSolverKind(solver, &o.solver)) {
@@ -101,6 +104,10 @@ bool ValidateOptimizeConfig(const OptimizeConfig& config, std::string* error) {
   const OptimizerOptions& o = config.optimizer;
   if (o.max_iterations < 0) {
     *error = "max_iterations must be >= 0";
+    return false;
+  }
+  if (config.landmark_stages < 1) {
+    *error = "landmark_stages must be >= 1";
     return false;
   }
   if (o.num_threads < 1) {
@@ -165,6 +172,7 @@ std::string OptimizeConfigToYaml(const OptimizeConfig& config) {
       << "  verbose: " << (o.verbose ? "true" : "false") << "\n"
       << "  repair_information: "
       << (config.repair_information ? "true" : "false") << "\n"
+      << "  landmark_stages: " << config.landmark_stages << "\n"
       << "  robust:\n"
       << "    odometry: " << config.robust_odometry.ToString() << "\n"
       << "    loop_closure: " << config.robust_loop_closure.ToString() << "\n"

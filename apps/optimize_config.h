@@ -19,6 +19,8 @@
 //     num_threads: 1        # Ceres threads (1 measured fastest on 2 cores)
 //     verbose: true         # one line per iteration
 //     repair_information: false
+//     landmark_stages: 4    # landmark SLAM from dead reckoning: solve
+//                           # growing halves of the trajectory first
 //     robust:               # kernel per factor kind: KIND[:WIDTH]
 //       odometry: none      # between factors of consecutive ids
 //       loop_closure: none  # all other between factors
@@ -44,6 +46,12 @@ struct OptimizeConfig {
   std::string init = "auto";
   OptimizerOptions optimizer;
   bool repair_information = false;
+  // Landmark SLAM from dead reckoning (init auto chose the spanning tree of
+  // an odometry tree, landmarks from their observations): solve the first
+  // 1/2^(n-1), ..., 1/2 of the poses before the whole graph, re-placing the
+  // later poses and landmarks after each (see OptimizeInStages in
+  // optimize_command.cc). 1: one batch solve.
+  int landmark_stages = 4;
   RobustKernelSpec robust_odometry;
   RobustKernelSpec robust_loop_closure;
   RobustKernelSpec robust_prior;
