@@ -149,20 +149,31 @@ bool SetOrdering(const Graph& graph, const std::string& method,
   return true;
 }
 
-// Stops Ceres when its first step is rejected (see Optimize).
+// Stops Ceres when its first kRejectionsBeforeProbe steps are all rejected
+// (see Optimize): by then LM has shrunk its radius 2 * 4 * 8 * 16 = 1024
+// times. Fewer rejections (parking-garage 3, MIT 2) LM recovers from in an
+// iteration or two, cheaper than the restart.
+constexpr int kRejectionsBeforeProbe = 4;
+
 class FirstStepWatcher : public ceres::IterationCallback {
  public:
   ceres::CallbackReturnType operator()(
       const ceres::IterationSummary& s) override {
-    if (s.iteration == 1 && !s.step_is_successful) {
+    if (s.iteration == 0) return ceres::SOLVER_CONTINUE;
+    if (s.step_is_successful) {
+      done_ = true;
+      return ceres::SOLVER_CONTINUE;
+    }
+    if (!done_ && s.iteration == kRejectionsBeforeProbe) {
       rejected_ = true;
       return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
     }
     return ceres::SOLVER_CONTINUE;
   }
-  bool first_step_rejected() const { return rejected_; }
+  bool first_steps_rejected() const { return rejected_; }
 
  private:
+  bool done_ = false;  // A step was accepted: LM is under way.
   bool rejected_ = false;
 };
 
@@ -450,10 +461,10 @@ OptimizerSummary Optimize(Graph* graph, const OptimizerOptions& options,
     solver_options.callbacks.push_back(&printer);
   }
 
-  // Pose graphs: when LM rejects its first (Gauss-Newton) step, stop it
-  // there, take plain Gauss-Newton steps, and let LM confirm their result
-  // (or start again from the untouched values when Gauss-Newton did not
-  // converge). Graphs whose first step is accepted run as before.
+  // Pose graphs: when LM rejects its first kRejectionsBeforeProbe steps,
+  // stop it there, take plain Gauss-Newton steps, and let LM go on from
+  // their result (or start again from the untouched values when
+  // Gauss-Newton diverged). Other graphs run as before.
   const bool probe_allowed =
       options.gauss_newton_probe_iterations > 0 &&
       options.solver == SolverKind::kLevenbergMarquardt && !landmarks;
@@ -466,7 +477,7 @@ OptimizerSummary Optimize(Graph* graph, const OptimizerOptions& options,
     ceres::Solve(solver_options, &problem, &ceres_summary);
   }
   int iterations = static_cast<int>(ceres_summary.iterations.size()) - 1;
-  if (watcher.first_step_rejected()) {
+  if (watcher.first_steps_rejected()) {
     std::vector<double*> free_blocks;
     for (const auto& [key, node] : graph->nodes()) {
       double* block = node->value.data();
@@ -475,7 +486,8 @@ OptimizerSummary Optimize(Graph* graph, const OptimizerOptions& options,
     }
     std::ostream* log = options.verbose ? progress : nullptr;
     if (log != nullptr) {
-      *log << "LM rejected its first step: plain Gauss-Newton steps\n";
+      *log << "LM rejected its first " << kRejectionsBeforeProbe
+           << " steps: plain Gauss-Newton steps\n";
     }
     ProbeResult probe;
     {

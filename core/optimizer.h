@@ -61,16 +61,16 @@ struct OptimizerOptions {
   // cost if the cost stays below the recent maximum): fewer iterations along
   // the curved valleys of landmark SLAM from dead reckoning.
   bool nonmonotonic_steps = false;
-  // Pose graphs (no landmarks) under LM: when LM rejects its first step
-  // (the Gauss-Newton step from the initial guess raised the cost), up to
-  // this many plain Gauss-Newton steps follow, accepted even when the cost
-  // rises, as g2o's Gauss-Newton; if the cost converges below its start, LM
-  // continues from there (confirming in an iteration), otherwise LM starts
-  // again from the untouched values. LM alone shrinks its radius by orders
-  // of magnitude after such a rejection and then crawls: dpgo's Intel from
-  // the chordal guess took 91 iterations (Gauss-Newton: 4), M3500 with
-  // 0.2 rad rotation noise 29. Graphs whose first step is accepted run as
-  // before. 0 disables.
+  // Pose graphs (no landmarks) under LM: when LM rejects its first 4 steps
+  // (the Gauss-Newton step from the initial guess overshoots and LM has
+  // shrunk its radius 1024 times), up to this many plain Gauss-Newton steps
+  // follow, accepted even when the cost rises, as g2o's Gauss-Newton; LM
+  // goes on from their result when its cost is below the start's (confirming
+  // in an iteration when Gauss-Newton converged), else from the untouched
+  // values (Gauss-Newton diverged: still above the start after 3 steps).
+  // LM alone crawls after such a radius collapse: dpgo's Intel from the
+  // chordal guess took 91 iterations (Gauss-Newton: 4), M3500 with 0.2 rad
+  // rotation noise 29. Other graphs run as before. 0 disables.
   int gauss_newton_probe_iterations = 10;
   // Ceres threads. One by default: on the 2-core machines measured, a second
   // thread made every benchmark slower (its hand-offs cost more than the

@@ -490,8 +490,9 @@ TEST(OptimizerProgressTest, OneLinePerIterationAndSummary) {
 // orders of magnitude and crawls; plain Gauss-Newton overshoots once and
 // converges. Rotation noise of 0.3 rad on every measurement (as Carlone's
 // M3500 variants), from the chordal guess: the default reaches the same
-// minimum as LM alone in about half the iterations (10 against 18).
-TEST(OptimizerTest, RejectedFirstStepFallsBackToGaussNewton) {
+// minimum as LM alone in fewer iterations (13, of which 4 rejected LM steps
+// and 9 Gauss-Newton steps, against 18).
+TEST(OptimizerTest, RejectedFirstStepsFallBackToGaussNewton) {
   Graph2Spec spec;
   spec.rows = 30;
   spec.cols = 30;
@@ -523,8 +524,8 @@ TEST(OptimizerTest, RejectedFirstStepFallsBackToGaussNewton) {
   EXPECT_TRUE(fast.converged) << fast.termination;
   EXPECT_GT(fast.gauss_newton_iterations, 0);
   EXPECT_NEAR(fast.final_chi2, slow.final_chi2, 1e-7 * slow.final_chi2);
-  EXPECT_LE(fast.iterations, 12);
-  EXPECT_GE(slow.iterations, fast.iterations + 6);
+  EXPECT_LE(fast.iterations, 14);
+  EXPECT_GE(slow.iterations, fast.iterations + 4);
 }
 
 }  // namespace
