@@ -31,14 +31,14 @@ bool LoadOptimizeConfig(const std::string& path, OptimizeConfig* config,
   if (!CheckTopLevelSections(root, path, error)) return false;
   const YAML::Node node = root["optimize"];
   if (!node) return true;
-  if (!CheckKnownKeys(
-          node,
-          {"init", "solver", "max_iterations", "function_tolerance",
-           "gradient_tolerance", "parameter_tolerance",
-           "initial_trust_region_radius", "linear_solver", "ordering",
-           "sparse_library", "num_threads", "verbose", "repair_information",
-           "robust", "nonmonotonic_steps", "landmark_stages"},
-          path, error)) {
+  if (!CheckKnownKeys(node,
+                      {"init", "solver", "max_iterations", "function_tolerance",
+                       "gradient_tolerance", "parameter_tolerance",
+                       "initial_trust_region_radius", "linear_solver",
+                       "ordering", "sparse_library", "num_threads", "verbose",
+                       "repair_information", "robust", "nonmonotonic_steps",
+                       "landmark_stages", "gauss_newton_probe_iterations"},
+                      path, error)) {
     return false;
   }
   OptimizerOptions& o = config->optimizer;
@@ -64,7 +64,9 @@ bool LoadOptimizeConfig(const std::string& path, OptimizeConfig* config,
       !ReadOptional(node, "repair_information", path,
                     &config->repair_information, error) ||
       !ReadOptional(node, "landmark_stages", path, &config->landmark_stages,
-                    error)) {
+                    error) ||
+      !ReadOptional(node, "gauss_newton_probe_iterations", path,
+                    &o.gauss_newton_probe_iterations, error)) {
     return false;
   }
   if (!ParseSolverKind(solver, &o.solver)) {
@@ -104,6 +106,10 @@ bool ValidateOptimizeConfig(const OptimizeConfig& config, std::string* error) {
   const OptimizerOptions& o = config.optimizer;
   if (o.max_iterations < 0) {
     *error = "max_iterations must be >= 0";
+    return false;
+  }
+  if (o.gauss_newton_probe_iterations < 0) {
+    *error = "gauss_newton_probe_iterations must be >= 0";
     return false;
   }
   if (config.landmark_stages < 1) {
@@ -164,6 +170,8 @@ std::string OptimizeConfigToYaml(const OptimizeConfig& config) {
       << "  initial_trust_region_radius: " << o.initial_trust_region_radius
       << "\n"
       << "  nonmonotonic_steps: " << (o.nonmonotonic_steps ? "true" : "false")
+      << "\n"
+      << "  gauss_newton_probe_iterations: " << o.gauss_newton_probe_iterations
       << "\n"
       << "  linear_solver: " << o.linear_solver << "\n"
       << "  ordering: " << o.ordering << "\n"
