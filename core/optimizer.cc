@@ -481,8 +481,11 @@ OptimizerSummary Optimize(Graph* graph, const OptimizerOptions& options,
     std::vector<double*> free_blocks;
     for (const auto& [key, node] : graph->nodes()) {
       double* block = node->value.data();
-      if (!problem.IsParameterBlockConstant(block))
+      // Nodes without factors are not in the problem.
+      if (problem.HasParameterBlock(block) &&
+          !problem.IsParameterBlockConstant(block)) {
         free_blocks.push_back(block);
+      }
     }
     std::ostream* log = options.verbose ? progress : nullptr;
     if (log != nullptr) {
