@@ -60,6 +60,8 @@ bool ReadLoopsConfig(const YAML::Node& node, const std::string& where,
                     &config->vocabulary_levels, error) ||
       !ReadOptional(node, "descriptors_per_word", where,
                     &config->descriptors_per_word, error) ||
+      !ReadOptional(node, "vocabulary_max_descriptors", where,
+                    &config->vocabulary_max_descriptors, error) ||
       !ReadOptional(node, "orb_features", where, &config->orb_features,
                     error) ||
       !ReadOptional(node, "exclude_recent", where, &d.exclude_recent, error) ||
@@ -134,6 +136,8 @@ bool ValidateLoopsConfig(const LoopsConfig& config, std::string* error) {
     return fail("vocabulary_levels must be in [0, 8] (0: automatic)");
   if (config.descriptors_per_word < 1)
     return fail("descriptors_per_word must be >= 1");
+  if (config.vocabulary_max_descriptors < 0)
+    return fail("vocabulary_max_descriptors must be >= 0 (0: all)");
   if (config.orb_features < 10 || config.orb_features > 100000)
     return fail("orb_features must be in [10, 100000]");
   if (d.exclude_recent < 0) return fail("exclude_recent must be >= 0");
@@ -176,6 +180,8 @@ std::string LoopsConfigToYaml(const LoopsConfig& config) {
       << "  vocabulary_k: " << config.vocabulary_k << "\n"
       << "  vocabulary_levels: " << config.vocabulary_levels << "\n"
       << "  descriptors_per_word: " << config.descriptors_per_word << "\n"
+      << "  vocabulary_max_descriptors: " << config.vocabulary_max_descriptors
+      << "\n"
       << "  orb_features: " << config.orb_features << "\n"
       << "  exclude_recent: " << d.exclude_recent << "\n"
       << "  max_query_results: " << d.max_query_results << "\n"

@@ -9,6 +9,7 @@
 //     vocabulary_levels: 0      # and levels; 0 = the most levels that keep
 //                               # at least descriptors_per_word descriptors
 //     descriptors_per_word: 20  # per word on average (at most 5 levels)
+//     vocabulary_max_descriptors: 200000  # clustered (evenly subsampled)
 //     orb_features: 1000        # ORB keypoints per image
 //     exclude_recent: 20        # keyframes before the query never matched
 //     max_query_results: 50     # database results considered
@@ -32,6 +33,7 @@
 #ifndef SLAM_APPS_VISUAL_LOOPS_CONFIG_H_
 #define SLAM_APPS_VISUAL_LOOPS_CONFIG_H_
 
+#include <cstdint>
 #include <string>
 
 #include <yaml-cpp/yaml.h>
@@ -45,6 +47,7 @@ struct LoopsConfig {
   int vocabulary_k = 10;
   int vocabulary_levels = 0;  // 0: automatic (see VocabularyLevelsFor).
   int descriptors_per_word = 20;
+  int64_t vocabulary_max_descriptors = 200000;
   int orb_features = 1000;
   bow::LoopDetectorConfig detector;
 };

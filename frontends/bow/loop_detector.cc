@@ -1,6 +1,7 @@
 #include "frontends/bow/loop_detector.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 
 namespace slam::bow {
@@ -28,6 +29,7 @@ LoopDetector::LoopDetector(const Vocabulary* vocabulary,
     : vocabulary_(vocabulary), config_(config), database_(vocabulary) {}
 
 LoopResult LoopDetector::Process(LoopKeyframe keyframe) {
+  const auto start = std::chrono::steady_clock::now();
   LoopResult result;
   result.query_id = keyframe.id;
   BowVector bow;
@@ -54,6 +56,9 @@ LoopResult LoopDetector::Process(LoopKeyframe keyframe) {
   }
   std::vector<QueryResult> found =
       database_.Query(bow, config_.max_query_results, max_entry);
+  result.database_ms = std::chrono::duration<double, std::milli>(
+                           std::chrono::steady_clock::now() - start)
+                           .count();
   std::vector<QueryResult> kept;
   for (const QueryResult& r : found) {
     if (r.score / prior >= config_.min_normalized_score) kept.push_back(r);

@@ -94,6 +94,8 @@ struct LoopResult {
   double normalized_score = 0.0;                // score / prior score.
   int consistent_queries = 0;
   int matches = 0;  // Descriptor matches given to the verification.
+  // Time of the bag-of-words transform and the database query, ms.
+  double database_ms = 0.0;
   int inliers = 0;
   // Stereo verification: query camera -> candidate camera, and covariance
   // (tangent rho, phi; right perturbation).

@@ -226,7 +226,6 @@ bool Vocabulary::Train(const std::vector<cv::Mat>& image_descriptors,
   nodes_.assign(1, Node());
   words_.clear();
   std::mt19937_64 rng(options.seed);
-  std::vector<NodeId> leaf_of(all.size(), 0);
 
   // Depth-first: (node, depth, member indices into `all`).
   struct Task {
@@ -236,15 +235,20 @@ bool Vocabulary::Train(const std::vector<cv::Mat>& image_descriptors,
   };
   std::vector<Task> stack;
   {
-    std::vector<int> members(all.size());
-    for (size_t i = 0; i < all.size(); ++i) members[i] = static_cast<int>(i);
+    // Clustering on at most max_descriptors, evenly spread over the images.
+    const size_t used =
+        options.max_descriptors > 0
+            ? std::min(all.size(), static_cast<size_t>(options.max_descriptors))
+            : all.size();
+    std::vector<int> members(used);
+    for (size_t i = 0; i < used; ++i)
+      members[i] = static_cast<int>(i * all.size() / used);
     stack.push_back({0, 0, std::move(members)});
   }
   while (!stack.empty()) {
     Task task = std::move(stack.back());
     stack.pop_back();
     if (task.depth == levels_ || task.members.size() <= 1) {
-      for (int m : task.members) leaf_of[m] = task.node;
       continue;
     }
     std::vector<Descriptor> centres;
@@ -299,14 +303,14 @@ bool Vocabulary::Train(const std::vector<cv::Mat>& image_descriptors,
     }
   }
   if (!Finish("vocabulary training", error)) return false;
-  // idf = log(N / n_w) over the training images.
+  // idf = log(N / n_w) over the training images (every descriptor).
   std::vector<int> images_with(words_.size(), 0);
   std::vector<int> last_image(words_.size(), -1);
   int num_images = 0;
   for (size_t i = 0; i < image_descriptors.size(); ++i)
     if (!image_descriptors[i].empty()) ++num_images;
   for (size_t m = 0; m < all.size(); ++m) {
-    const int word = nodes_[leaf_of[m]].word;
+    const WordId word = Quantize(all[m], 0, nullptr);
     if (last_image[word] != image_of[m]) {
       last_image[word] = image_of[m];
       ++images_with[word];

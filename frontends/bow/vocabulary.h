@@ -54,6 +54,9 @@ struct VocabularyTrainingOptions {
   int max_iterations = 20;  // Of each k-means (stops earlier when stable).
   int restarts = 3;         // k-means++ seedings per node; the best is kept.
   uint64_t seed = 42;       // k-means++ seeding.
+  // Cluster at most this many descriptors (evenly spread; 0: all); the idf
+  // weights always count every descriptor.
+  int64_t max_descriptors = 0;
 };
 
 class Vocabulary {
