@@ -56,7 +56,8 @@ bool ListImages(const std::string& dir, std::vector<std::string>* paths,
     std::transform(ext.begin(), ext.end(), ext.begin(),
                    [](unsigned char c) { return std::tolower(c); });
     if (ext == ".jpg" || ext == ".jpeg" || ext == ".png" || ext == ".bmp" ||
-        ext == ".pgm" || ext == ".ppm" || ext == ".tif" || ext == ".tiff") {
+        ext == ".pgm" || ext == ".ppm" || ext == ".tif" || ext == ".tiff" ||
+        ext == ".webp") {
       names.push_back(entry.path().filename().string());
     }
   }
@@ -65,7 +66,8 @@ bool ListImages(const std::string& dir, std::vector<std::string>* paths,
     return false;
   }
   if (names.empty()) {
-    *error = dir + ": no images (jpg, png, bmp, pgm, ppm, tif) in the folder";
+    *error =
+        dir + ": no images (jpg, png, bmp, pgm, ppm, tif, webp) in the folder";
     return false;
   }
   std::sort(names.begin(), names.end(), NaturalLess);

@@ -10,7 +10,7 @@
 
 namespace slam {
 
-// The image files (jpg, jpeg, png, bmp, pgm, ppm, tif, tiff) directly in
+// The image files (jpg, jpeg, png, bmp, pgm, ppm, tif, tiff, webp) directly in
 // `dir`, in natural order: digit runs compare as numbers, so 2.jpg comes
 // before 10.jpg (a loop ground truth indexes images in that order). Fails
 // naming the folder when it is missing or holds no image.
