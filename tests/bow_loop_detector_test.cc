@@ -9,6 +9,7 @@
 #include <Eigen/Dense>
 
 #include "core/lie.h"
+#include "factors/between_se3.h"
 #include "frontends/bow/geometric_verification.h"
 #include "frontends/bow/loop_detector.h"
 #include "frontends/bow/vocabulary.h"
@@ -136,6 +137,36 @@ TEST(GeometricVerificationTest, PnpCovarianceMatchesTheScatter) {
   nees /= kTrials;
   EXPECT_GT(nees, 6.0 * 0.8);
   EXPECT_LT(nees, 6.0 * 1.25);
+}
+
+TEST(GeometricVerificationTest, BetweenInformationMatchesTheFactorsError) {
+  // The between factor's error for X_i^-1 X_j = Z [+] delta is J delta to
+  // first order; the information must then be (J C J^T)^-1.
+  std::mt19937 rng(8);
+  std::normal_distribution<double> n(0.0, 1.0);
+  Eigen::Matrix<double, 6, 6> a;
+  for (int r = 0; r < 6; ++r)
+    for (int c = 0; c < 6; ++c) a(r, c) = n(rng);
+  const Eigen::Matrix<double, 6, 6> covariance =
+      a * a.transpose() + Eigen::Matrix<double, 6, 6>::Identity();
+  const Eigen::Matrix<double, 6, 6> information =
+      BetweenSE3Information(covariance);
+  BetweenSE3Factor factor(kTruth.t, kTruth.q,
+                          Eigen::Matrix<double, 6, 6>::Identity());
+  const double xi[7] = {0, 0, 0, 0, 0, 0, 1};
+  for (int trial = 0; trial < 10; ++trial) {
+    Eigen::Matrix<double, 6, 1> delta;
+    for (int k = 0; k < 6; ++k) delta[k] = 1e-4 * n(rng);
+    const Pose3 xj = Plus(kTruth, delta);
+    const double xj_values[7] = {xj.t.x(), xj.t.y(), xj.t.z(), xj.q.x(),
+                                 xj.q.y(), xj.q.z(), xj.q.w()};
+    Eigen::Matrix<double, 6, 1> e;
+    ASSERT_TRUE(factor(xi, xj_values, e.data()));
+    // e^T Omega e = delta^T C^-1 delta (the same error in both units).
+    const double chi2_factor = e.dot(information * e);
+    const double chi2_tangent = delta.dot(covariance.inverse() * delta);
+    EXPECT_NEAR(chi2_factor, chi2_tangent, 1e-4 * chi2_tangent);
+  }
 }
 
 TEST(GeometricVerificationTest, FundamentalMatrixFindsTheEpipolarInliers) {

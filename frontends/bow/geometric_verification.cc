@@ -168,6 +168,17 @@ StereoVerification VerifyStereoPnp(
   return result;
 }
 
+Eigen::Matrix<double, 6, 6> BetweenSE3Information(
+    const Eigen::Matrix<double, 6, 6>& covariance) {
+  Eigen::Matrix<double, 6, 1> j;
+  j << 1.0, 1.0, 1.0, 0.5, 0.5, 0.5;
+  const Eigen::Matrix<double, 6, 6> c =
+      j.asDiagonal() * covariance * j.asDiagonal();
+  Eigen::Matrix<double, 6, 6> information =
+      c.ldlt().solve(Eigen::Matrix<double, 6, 6>::Identity());
+  return 0.5 * (information + information.transpose());
+}
+
 FundamentalVerification VerifyFundamental(
     const std::vector<cv::Point2f>& query_pixels,
     const std::vector<cv::Point2f>& candidate_pixels,

@@ -75,6 +75,15 @@ Eigen::Matrix<double, 2, 6> ReprojectionJacobian(
     const Pose3& T_candidate_query, const Eigen::Vector3d& p_candidate,
     const PinholeCamera& camera);
 
+// The information matrix of a verified loop for the SE(3) between factor
+// (factors/between_se3.h) with measurement Z = T_candidate_query, i =
+// candidate, j = query. That factor's error is (t, quaternion vector) of
+// Z^-1 X_i^-1 X_j, i.e. (rho, phi / 2) for a right perturbation (rho, phi)
+// of Z, so its information is (J C J^T)^-1 with J = diag(1, 1, 1, 1/2, 1/2,
+// 1/2) and C the covariance of StereoVerification / LoopResult.
+Eigen::Matrix<double, 6, 6> BetweenSE3Information(
+    const Eigen::Matrix<double, 6, 6>& covariance);
+
 struct FundamentalVerificationOptions {
   int min_inliers = 20;
   double epipolar_error_px = 2.0;  // RANSAC threshold (distance to the line).

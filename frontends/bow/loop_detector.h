@@ -23,6 +23,24 @@
 // ORB-SLAM2's for ORB (ratio 0.75, at least 20 inliers) instead of
 // DLoopDetector's (0.6, 12, chosen for BRIEF/SURF). README: figures.
 // Every keyframe is then added to the database.
+//
+// Use in a stereo pipeline (one detector per run):
+//   bow::Vocabulary vocabulary;           // Load(file) or Train(descriptors)
+//   bow::LoopDetectorConfig config;       // or ReadLoopsConfig (apps/visual)
+//   config.verification = bow::Verification::kStereoPnp;
+//   config.camera = {fx, fy, cx, cy};     // left camera, rectified
+//   bow::LoopDetector detector(&vocabulary, config);
+//   per keyframe:
+//     bow::LoopKeyframe kf{id, stamp, descriptors, keypoints, points};
+//     const bow::LoopResult r = detector.Process(std::move(kf));
+//     if (r.status == bow::LoopStatus::kAccepted)
+//       // camera pose of r.candidate_id -> camera pose of r.query_id:
+//       BetweenSE3Factor::Create(r.T_candidate_query.t, r.T_candidate_query.q,
+//           sqrt of bow::BetweenSE3Information(r.covariance)), robust kernel.
+// `points` are the stereo-triangulated keypoints in the keyframe's camera
+// frame (NaN without depth); the covariance models pixel noise only, so a
+// robust kernel (and the rejection of loops the optimisation disagrees
+// with) stays necessary.
 #ifndef SLAM_FRONTENDS_BOW_LOOP_DETECTOR_H_
 #define SLAM_FRONTENDS_BOW_LOOP_DETECTOR_H_
 
