@@ -558,7 +558,8 @@ bool Vocabulary::LoadDbow2Yaml(const std::string& path, std::string* error) {
       const cv::FileNode n = *it;
       const std::string item = path + ": nodes[" + std::to_string(index) + "]";
       if (!n["nodeId"].isInt() || !n["parentId"].isInt() ||
-          !n["weight"].isReal() || !n["descriptor"].isString()) {
+          !(n["weight"].isReal() || n["weight"].isInt()) ||
+          !n["descriptor"].isString()) {
         *error = item + ": needs nodeId, parentId, weight, descriptor";
         return false;
       }
