@@ -203,6 +203,48 @@ TEST(VocabularyTest, CorruptBinaryFilesAreRejectedWithAReason) {
   EXPECT_TRUE(testing::Contains(error, "/nonexistent/voc.bin")) << error;
 }
 
+TEST(VocabularyTest, RandomlyCorruptedBinaryFilesNeverCrash) {
+  // Byte flips and truncations of a valid file: each either loads into a
+  // usable vocabulary or fails with a message (run under the sanitizers,
+  // this is the fuzzer's seed behaviour).
+  std::mt19937 rng(13);
+  std::vector<cv::Mat> images;
+  for (int image = 0; image < 3; ++image) {
+    std::vector<Descriptor> d;
+    for (int i = 0; i < 40; ++i) d.push_back(RandomDescriptor(&rng));
+    images.push_back(ToMat(d));
+  }
+  Vocabulary voc;
+  std::string error;
+  VocabularyTrainingOptions options;
+  options.k = 3;
+  options.levels = 2;
+  ASSERT_TRUE(voc.Train(images, options, &error)) << error;
+  const std::string good = voc.SerializeBinary();
+  int loaded = 0, rejected = 0;
+  for (int trial = 0; trial < 3000; ++trial) {
+    std::string bytes = good;
+    const int flips = 1 + static_cast<int>(rng() % 4);
+    for (int f = 0; f < flips; ++f)
+      bytes[rng() % bytes.size()] = static_cast<char>(rng() & 0xff);
+    if (trial % 5 == 0) bytes.resize(rng() % bytes.size());
+    Vocabulary v;
+    error.clear();
+    if (v.ParseBinary(bytes, "fuzz", &error)) {
+      ++loaded;
+      ASSERT_FALSE(v.empty());
+      const Descriptor d = RandomDescriptor(&rng);
+      EXPECT_LT(v.Quantize(d.data(), 1, nullptr), v.size());
+    } else {
+      ++rejected;
+      EXPECT_EQ(error.rfind("fuzz: ", 0), 0u) << error;
+      EXPECT_TRUE(v.empty());
+    }
+  }
+  EXPECT_GT(loaded, 0);    // Descriptor bytes may change freely.
+  EXPECT_GT(rejected, 0);  // Header, parents and sizes may not.
+}
+
 std::string DescriptorText(const Descriptor& d) {
   std::string text;
   for (int i = 0; i < kDescriptorBytes; ++i) {
