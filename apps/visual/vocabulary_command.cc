@@ -3,7 +3,7 @@
 // writes it in the project's binary format:
 //
 //   slam vocabulary --images DIR [DIR...] -o VOC [--k 10] [--levels 5]
-//                   [--orb_features 1000]
+//                   [--orb_features 1000] [--max_descriptors 0]
 //
 // `--voc FILE` instead converts an existing vocabulary (a DBoW2 .yml/.yml.gz
 // or a binary one) to the binary format. The output is written only when
@@ -26,6 +26,9 @@ DEFINE_string(images, "",
               "follow as arguments)");
 DEFINE_int32(k, 10, "vocabulary: branches per node");
 DEFINE_int32(levels, 5, "vocabulary: levels of the tree");
+DEFINE_int64(max_descriptors, 0,
+             "vocabulary: cluster at most this many descriptors, evenly "
+             "subsampled (0: all; the idf weights count all)");
 DEFINE_int32(orb_features, 1000, "vocabulary, loops: ORB features per image");
 DEFINE_string(voc, "",
               "vocabulary: convert this vocabulary file instead of training; "
@@ -61,8 +64,10 @@ int RunVocabularyCommand(const std::vector<std::string>& args) {
                    "slam vocabulary: --images DIR [DIR...] is required\n");
       return 2;
     }
-    if (FLAGS_orb_features < 10) {
-      std::fprintf(stderr, "slam vocabulary: --orb_features must be >= 10\n");
+    if (FLAGS_orb_features < 10 || FLAGS_max_descriptors < 0) {
+      std::fprintf(stderr,
+                   "slam vocabulary: --orb_features must be >= 10 and "
+                   "--max_descriptors >= 0\n");
       return 2;
     }
     std::vector<std::string> paths;
@@ -84,6 +89,7 @@ int RunVocabularyCommand(const std::vector<std::string>& args) {
     bow::VocabularyTrainingOptions options;
     options.k = FLAGS_k;
     options.levels = FLAGS_levels;
+    options.max_descriptors = FLAGS_max_descriptors;
     const auto train_start = Clock::now();
     if (!vocabulary.Train(descriptors, options, &error)) {
       std::fprintf(stderr, "slam vocabulary: %s\n", error.c_str());
