@@ -378,3 +378,42 @@ TEST(LoopDetectorTest, TemporalConsistencyAndExclusionHoldBackEarlyMatches) {
 
 }  // namespace
 }  // namespace slam::bow
+
+namespace slam::bow {
+namespace {
+
+TEST(LoopDetectorTest, OneBlankKeyframeDoesNotBlindTheNextQuery) {
+  std::mt19937 rng(9);
+  World world = MakeWorld(&rng);
+  // Keyframe 40 (a revisit) sees nothing: no features at all.
+  world.keyframes[40].descriptors = cv::Mat();
+  world.keyframes[40].keypoints.clear();
+  world.keyframes[40].points.clear();
+  std::vector<cv::Mat> training;
+  for (int k = 0; k < 30; ++k)
+    training.push_back(world.keyframes[k].descriptors);
+  Vocabulary voc;
+  std::string error;
+  ASSERT_TRUE(voc.Train(training, VocabularyTrainingOptions(), &error))
+      << error;
+  for (int prior_keyframes : {1, 2}) {
+    LoopDetectorConfig config;
+    config.verification = Verification::kNone;
+    config.prior_keyframes = prior_keyframes;
+    LoopDetector detector(&voc, config);
+    for (int k = 0; k < 42; ++k) {
+      const LoopResult r = detector.Process(world.keyframes[k]);
+      if (k == 40) {
+        EXPECT_EQ(r.status, LoopStatus::kLowPriorScore);
+      }
+      if (k == 41) {
+        // With the previous keyframe only, the blank one is the reference.
+        EXPECT_EQ(r.status, prior_keyframes == 1 ? LoopStatus::kLowPriorScore
+                                                 : LoopStatus::kAccepted);
+      }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace slam::bow

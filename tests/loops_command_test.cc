@@ -7,6 +7,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "apps/visual/image_features.h"
+#include "apps/visual/loops_config.h"
 #include "frontends/bow/vocabulary.h"
 #include "gtest/gtest.h"
 #include "tests/test_util.h"
@@ -47,6 +48,27 @@ TEST(LoopsCommandTest, NaturalOrderSortsNumbersByValue) {
   EXPECT_TRUE(NaturalLess("a1", "a01"));  // Same value: shorter first.
   EXPECT_FALSE(NaturalLess("x", "x"));
   EXPECT_TRUE(NaturalLess("abc", "abd"));
+}
+
+TEST(LoopsCommandTest, ConfigRoundTripsThroughItsYamlDump) {
+  // Every printed key must be accepted back (a key missing from the known
+  // list would make --dump_config output unusable as a config).
+  LoopsConfig config;
+  config.vocabulary = "voc.bin";
+  config.vocabulary_max_descriptors = 1234;
+  config.detector.prior_keyframes = 3;
+  config.detector.min_normalized_score = 0.45;
+  config.detector.max_query_gap = 4;
+  config.detector.verification = bow::Verification::kStereoPnp;
+  config.detector.stereo.min_pixel_sigma = 0.75;
+  const std::string path = testing::TempDir() + "/loops.yaml";
+  testing::WriteText(path, LoopsConfigToYaml(config));
+  LoopsConfig loaded;
+  std::string error;
+  ASSERT_TRUE(LoadLoopsConfig(path, &loaded, &error)) << error;
+  EXPECT_EQ(LoopsConfigToYaml(loaded), LoopsConfigToYaml(config));
+  EXPECT_EQ(loaded.detector.prior_keyframes, 3);
+  EXPECT_EQ(loaded.vocabulary_max_descriptors, 1234);
 }
 
 TEST(LoopsCommandTest, BadInputFailsNamingTheFileWithoutOutput) {

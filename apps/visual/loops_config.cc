@@ -37,17 +37,31 @@ int VocabularyLevelsFor(const LoopsConfig& config, size_t num_descriptors) {
 
 bool ReadLoopsConfig(const YAML::Node& node, const std::string& where,
                      LoopsConfig* config, std::string* error) {
-  if (!CheckKnownKeys(node, {"vocabulary",           "vocabulary_k",
-                             "vocabulary_levels",    "descriptors_per_word",
-                             "orb_features",         "exclude_recent",
-                             "max_query_results",    "direct_index_levels_up",
-                             "min_prior_score",      "min_normalized_score",
-                             "max_island_gap",       "min_consistent_queries",
-                             "max_island_distance",  "max_query_gap",
-                             "verification",         "match_max_hamming",
-                             "match_ratio",          "fundamental_min_inliers",
-                             "fundamental_error_px", "pnp_min_inliers",
-                             "pnp_error_px",         "pnp_min_pixel_sigma"},
+  if (!CheckKnownKeys(node,
+                      {"vocabulary",
+                       "vocabulary_k",
+                       "vocabulary_levels",
+                       "descriptors_per_word",
+                       "vocabulary_max_descriptors",
+                       "orb_features",
+                       "exclude_recent",
+                       "max_query_results",
+                       "direct_index_levels_up",
+                       "min_prior_score",
+                       "prior_keyframes",
+                       "min_normalized_score",
+                       "max_island_gap",
+                       "min_consistent_queries",
+                       "max_island_distance",
+                       "max_query_gap",
+                       "verification",
+                       "match_max_hamming",
+                       "match_ratio",
+                       "fundamental_min_inliers",
+                       "fundamental_error_px",
+                       "pnp_min_inliers",
+                       "pnp_error_px",
+                       "pnp_min_pixel_sigma"},
                       where, error)) {
     return false;
   }
@@ -70,6 +84,8 @@ bool ReadLoopsConfig(const YAML::Node& node, const std::string& where,
       !ReadOptional(node, "direct_index_levels_up", where,
                     &d.direct_index_levels_up, error) ||
       !ReadOptional(node, "min_prior_score", where, &d.min_prior_score,
+                    error) ||
+      !ReadOptional(node, "prior_keyframes", where, &d.prior_keyframes,
                     error) ||
       !ReadOptional(node, "min_normalized_score", where,
                     &d.min_normalized_score, error) ||
@@ -146,6 +162,7 @@ bool ValidateLoopsConfig(const LoopsConfig& config, std::string* error) {
     return fail("direct_index_levels_up must be >= 0");
   if (!(d.min_prior_score >= 0.0 && d.min_prior_score <= 1.0))
     return fail("min_prior_score must be in [0, 1]");
+  if (d.prior_keyframes < 1) return fail("prior_keyframes must be >= 1");
   if (!(d.min_normalized_score >= 0.0) ||
       !std::isfinite(d.min_normalized_score))
     return fail("min_normalized_score must be >= 0");
@@ -187,6 +204,7 @@ std::string LoopsConfigToYaml(const LoopsConfig& config) {
       << "  max_query_results: " << d.max_query_results << "\n"
       << "  direct_index_levels_up: " << d.direct_index_levels_up << "\n"
       << "  min_prior_score: " << d.min_prior_score << "\n"
+      << "  prior_keyframes: " << d.prior_keyframes << "\n"
       << "  min_normalized_score: " << d.min_normalized_score << "\n"
       << "  max_island_gap: " << d.max_island_gap << "\n"
       << "  min_consistent_queries: " << d.min_consistent_queries << "\n"

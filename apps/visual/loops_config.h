@@ -15,6 +15,7 @@
 //     max_query_results: 50     # database results considered
 //     direct_index_levels_up: 2 # direct index this far above the words
 //     min_prior_score: 0.005    # score against the previous keyframe
+//     prior_keyframes: 2        # best of the last N keyframes (DLoop: 1)
 //     min_normalized_score: 0.3 # acceptance threshold (alpha)
 //     max_island_gap: 3         # keyframes within an island
 //     min_consistent_queries: 3 # consecutive queries agreeing (incl. this)

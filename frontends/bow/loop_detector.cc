@@ -49,7 +49,14 @@ LoopResult LoopDetector::Process(LoopKeyframe keyframe) {
   };
 
   if (max_entry < 0) return finish(result);
-  const double prior = ScoreL1(bow, database_.bow(index - 1));
+  // The prior score: how alike views of one place are right now, the best
+  // score against the last prior_keyframes keyframes (one blank or blurred
+  // keyframe then does not blind the next query).
+  double prior = 0.0;
+  for (int64_t k = index - 1; k >= 0 && k >= index - config_.prior_keyframes;
+       --k) {
+    prior = std::max(prior, ScoreL1(bow, database_.bow(k)));
+  }
   if (prior < config_.min_prior_score) {
     result.status = LoopStatus::kLowPriorScore;
     return finish(result);

@@ -3,9 +3,10 @@
 //   1. its bag of words is scored against the database, leaving out the
 //      `exclude_recent` keyframes just before it;
 //   2. the scores are normalised by the score against the previous keyframe
-//      (how alike two views of the same place are right now); when that prior
-//      score is below `min_prior_score` (a blank or blurred view) nothing is
-//      detected; candidates below `min_normalized_score` are dropped;
+//      (how alike two views of the same place are right now; the best over
+//      the last `prior_keyframes`); when that prior score is below
+//      `min_prior_score` (a blank or blurred view) nothing is detected;
+//      candidates below `min_normalized_score` are dropped;
 //   3. the remaining candidates are grouped into islands (keyframes at most
 //      `max_island_gap` apart); the island with the largest summed score
 //      wins and its best keyframe is the candidate;
@@ -69,7 +70,11 @@ struct LoopDetectorConfig {
   // The direct index groups features this many levels above the words
   // (descriptor matching compares only features under the same node).
   int direct_index_levels_up = 2;
-  double min_prior_score = 0.005;     // Score against the previous keyframe.
+  double min_prior_score = 0.005;  // Score against the previous keyframe.
+  // The prior score is the best against this many previous keyframes
+  // (DLoopDetector: 1; 2 keeps one blank keyframe from also blinding the
+  // next query: 3 more loops of 44 on the rtabmap samples, see README).
+  int prior_keyframes = 2;
   double min_normalized_score = 0.3;  // Acceptance threshold (alpha).
   int max_island_gap = 3;             // Keyframes, within one island.
   int min_consistent_queries = 3;     // Consecutive agreeing queries.
