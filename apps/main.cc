@@ -6,6 +6,8 @@
 //   slam run --config configs/aces.yaml          2D laser SLAM on a CARMEN log
 //   slam inertial -i IN -o DIR [flags]           IMU window / batch
 //   slam run --config configs/kitti_stereo.yaml  stereo visual odometry
+//   slam vocabulary --images DIR -o VOC          bag-of-words vocabulary
+//   slam loops --images DIR --gt GT.bmp          visual loop detection
 //
 // Two binaries are built from this file. `slam-visual` (SLAM_VISUAL_COMMANDS)
 // has every command, including those that read images (run, which also runs
@@ -44,8 +46,12 @@ struct Command {
 // only serve the usage text.
 #ifdef SLAM_VISUAL_COMMANDS
 constexpr auto kRun = &slam::RunRunOrStereoCommand;
+constexpr auto kVocabulary = &slam::RunVocabularyCommand;
+constexpr auto kLoops = &slam::RunLoopsCommand;
 #else
 constexpr auto kRun = &slam::RunForwardedCommand;
+constexpr auto kVocabulary = &slam::RunForwardedCommand;
+constexpr auto kLoops = &slam::RunForwardedCommand;
 #endif
 
 const std::map<std::string, Command>& Commands() {
@@ -67,6 +73,14 @@ const std::map<std::string, Command>& Commands() {
       {"simulate",
        {slam::RunSimulateCommand,
         "write a synthetic dataset with ground truth: slam simulate -o DIR"}},
+      {"vocabulary",
+       {kVocabulary,
+        "train a bag-of-words vocabulary: slam vocabulary --images DIR "
+        "[DIR...] -o VOC [--k 10 --levels 5]"}},
+      {"loops",
+       {kLoops,
+        "visual loop detection scored against a loop matrix: slam loops "
+        "--images DIR --gt GT.bmp [--plot DIR] [--report FILE.json]"}},
   };
   return *commands;
 }
