@@ -42,6 +42,7 @@
 #include "datasets/trajectory_io.h"
 #include "frontends/stereo/stereo_features.h"
 #include "frontends/stereo/stereo_images.h"
+#include "frontends/stereo/stereo_loop_closing.h"
 #include "frontends/stereo/stereo_odometry.h"
 
 DECLARE_string(output_dir);
@@ -128,16 +129,24 @@ int RunStereo(const StereoRunConfig& config) {
     std::cerr << "run: " << error << "\n";
     return 1;
   }
-  size_t frames = sequence.left_images.size();
+  size_t available = sequence.left_images.size();
   if (config.max_frames > 0) {
-    frames = std::min(frames, static_cast<size_t>(config.max_frames));
+    available = std::min(available, static_cast<size_t>(config.max_frames));
   }
+  // The images in playback order (forward, or forward then back).
+  std::vector<size_t> order;
+  for (size_t k = 0; k < available; ++k) order.push_back(k);
+  if (config.playback == "forward_backward") {
+    for (size_t k = available - 1; k-- > 0;) order.push_back(k);
+  }
+  const size_t frames = order.size();
   const StereoCalibration& calibration = sequence.calibration;
   std::printf(
-      "run: stereo %s: %zu frames, fx %.4f fy %.4f cx %.4f cy %.4f, baseline "
+      "run: stereo %s: %zu frames (%s), fx %.4f fy %.4f cx %.4f cy %.4f, "
+      "baseline "
       "%.6f m, %s\n",
-      dir.c_str(), frames, calibration.fx, calibration.fy, calibration.cx,
-      calibration.cy, calibration.baseline,
+      dir.c_str(), frames, config.playback.c_str(), calibration.fx,
+      calibration.fy, calibration.cx, calibration.cy, calibration.baseline,
       sequence.has_times ? "stamps from times.txt"
                          : ("no times.txt: frames " +
                             std::to_string(config.frame_period) + " s apart")
@@ -156,6 +165,14 @@ int RunStereo(const StereoRunConfig& config) {
       std::cerr << "run: " << error << "\n";
       return 1;
     }
+    if (gt.poses.size() < available) {
+      std::cerr << "run: " << gt_path << ": " << gt.poses.size()
+                << " poses for " << available << " frames\n";
+      return 1;
+    }
+    Trajectory played;
+    for (size_t k : order) played.push_back(gt.poses[k]);
+    gt.poses = std::move(played);
   }
   EvalSettings eval_settings;
   eval_settings.align = AlignmentMethod::kNone;
@@ -173,6 +190,13 @@ int RunStereo(const StereoRunConfig& config) {
     return 1;
   }
   const int width = images.left.cols, height = images.left.rows;
+  // Frames are numbered and stamped in playback order: the sequence's stamps
+  // forward, frame_period apart when played forward and back.
+  auto stamp_of = [&](size_t k) {
+    return config.playback == "forward" ? sequence.stamps[k]
+                                        : SecondsToNs(config.frame_period * k);
+  };
+  images.stamp = stamp_of(0);
   std::error_code ec;
   fs::create_directories(config.output_dir, ec);
   if (ec) {
@@ -191,8 +215,13 @@ int RunStereo(const StereoRunConfig& config) {
     StereoImages next_images;
     std::string next_error;
     auto load = [&](size_t k) {
-      return LoadStereoImages(sequence, k, width, height, &next_images,
-                              &next_error);
+      if (!LoadStereoImages(sequence, order[k], width, height, &next_images,
+                            &next_error)) {
+        return false;
+      }
+      next_images.index = static_cast<int64_t>(k);
+      next_images.stamp = stamp_of(k);
+      return true;
     };
     for (size_t k = 0; k < frames; ++k) {
       FrameTiming t;
@@ -221,6 +250,61 @@ int RunStereo(const StereoRunConfig& config) {
       timings.push_back(t);
       bar.Update(static_cast<double>(k + 1) / frames);
     }
+  }
+  // Loop closing over the keyframes, then the global bundle adjustment.
+  StereoLoopClosingResult loops;
+  double vocabulary_seconds = 0.0, loop_seconds = 0.0;
+  if (config.loop_closure.enabled) {
+    const auto loop_start = std::chrono::steady_clock::now();
+    bow::Vocabulary vocabulary;
+    std::string source = config.loops.vocabulary;
+    if (!config.loops.vocabulary.empty()) {
+      if (!vocabulary.Load(ResolveDatasetPath(config.loops.vocabulary),
+                           &error)) {
+        std::cerr << "run: " << error << "\n";
+        return 1;
+      }
+    } else {
+      // Trained on the keyframes' own descriptors (no download needed).
+      std::vector<cv::Mat> descriptors;
+      size_t count = 0;
+      for (size_t k = 0; k < odometry.NumKeyframes(); ++k) {
+        descriptors.push_back(odometry.KeyframeFeatures(k).descriptors);
+        count += descriptors.back().rows;
+      }
+      bow::VocabularyTrainingOptions options;
+      options.k = config.loops.vocabulary_k;
+      options.max_descriptors = config.loops.vocabulary_max_descriptors;
+      options.levels = VocabularyLevelsFor(
+          config.loops, options.max_descriptors > 0
+                            ? std::min<size_t>(count, options.max_descriptors)
+                            : count);
+      if (!vocabulary.Train(descriptors, options, &error)) {
+        std::cerr << "run: vocabulary: " << error << "\n";
+        return 1;
+      }
+      source = "trained on the keyframes";
+    }
+    vocabulary_seconds = std::chrono::duration<double>(
+                             std::chrono::steady_clock::now() - loop_start)
+                             .count();
+    std::printf("run: vocabulary %s: k = %d, L = %d, %zu words (%.2f s)\n",
+                source.c_str(), vocabulary.k(), vocabulary.levels(),
+                vocabulary.size(), vocabulary_seconds);
+    if (!CloseStereoLoops(vocabulary, config.loops.detector,
+                          config.loop_closure, calibration, &odometry, &loops,
+                          &std::cout, &error)) {
+      std::cerr << "run: loop closing: " << error << "\n";
+      return 1;
+    }
+    loop_seconds = std::chrono::duration<double>(
+                       std::chrono::steady_clock::now() - loop_start)
+                       .count();
+    std::printf(
+        "run: loop closure: %d candidates verified or rejected, %d accepted, "
+        "%d rejected, largest keyframe correction %.3f m (%.2f s)\n",
+        loops.detected, loops.accepted, loops.rejected,
+        loops.largest_correction, loop_seconds);
   }
   odometry.Finish();
   const Trajectory trajectory = odometry.FrameTrajectory();
@@ -304,6 +388,14 @@ int RunStereo(const StereoRunConfig& config) {
       .Add("local_ba", StageJson(local_ba))
       .Add("global_ba_ms", s.final_ba_ms);
   report.Add("timing", timing);
+  JsonObject loop_json;
+  loop_json.Add("enabled", config.loop_closure.enabled)
+      .Add("candidates", loops.detected)
+      .Add("accepted", loops.accepted)
+      .Add("rejected", loops.rejected)
+      .Add("largest_correction_m", loops.largest_correction)
+      .Add("seconds", loop_seconds);
+  report.Add("loop_closure", loop_json);
 
   if (!gt.poses.empty()) {
     EvalResult result;

@@ -17,7 +17,8 @@ Section Schema(StereoRunConfig* c) {
       "run",
       {S("pipeline", &c->pipeline), S("sequence", &c->sequence),
        S("ground_truth", &c->ground_truth), S("output_dir", &c->output_dir),
-       D("frame_period", &c->frame_period), I("max_frames", &c->max_frames)},
+       D("frame_period", &c->frame_period), I("max_frames", &c->max_frames),
+       S("playback", &c->playback)},
       {{"features",
         {I("max_features", &f.max_features), D("scale_factor", &f.scale_factor),
          I("levels", &f.levels), I("fast_threshold", &f.fast_threshold),
@@ -56,6 +57,16 @@ Section Schema(StereoRunConfig* c) {
         {I("window_keyframes", &o.window_keyframes),
          I("local_iterations", &o.local_ba_iterations),
          I("final_iterations", &o.final_ba_iterations)},
+        {}},
+       {"loop_closure",
+        {B("enabled", &c->loop_closure.enabled),
+         D("drift_translation", &c->loop_closure.drift_translation),
+         D("min_sigma_translation", &c->loop_closure.min_sigma_translation),
+         D("drift_rotation", &c->loop_closure.drift_rotation),
+         D("min_sigma_rotation", &c->loop_closure.min_sigma_rotation),
+         K("kernel", &c->loop_closure.kernel),
+         D("reject_chi2", &c->loop_closure.reject_chi2),
+         I("max_iterations", &c->loop_closure.max_iterations)},
         {}}}};
 }
 
@@ -81,6 +92,7 @@ bool LoadStereoRunConfig(const std::string& path, StereoRunConfig* config,
   const YAML::Node node = root["run"];
   if (!node) return true;
   if (!LoadSection(node, Schema(config), path, error)) return false;
+  if (!LoadLoopsConfig(path, &config->loops, error)) return false;
   // The pyramid scale of the features sets the noise model's scale.
   config->odometry.scale_factor = config->features.scale_factor;
   if (!ValidateStereoRunConfig(*config, error)) {
@@ -100,6 +112,10 @@ bool ValidateStereoRunConfig(const StereoRunConfig& config,
     *error = "frame_period must be in (0, 1000) s";
     return false;
   }
+  if (config.playback != "forward" && config.playback != "forward_backward") {
+    *error = "playback must be forward or forward_backward";
+    return false;
+  }
   if (config.max_frames < 0) {
     *error = "max_frames must be >= 0 (0: all)";
     return false;
@@ -109,7 +125,9 @@ bool ValidateStereoRunConfig(const StereoRunConfig& config,
     *error = "features: " + problem;
     return false;
   }
-  if (!ValidateStereoOdometryConfig(config.odometry, &problem)) {
+  if (!ValidateStereoOdometryConfig(config.odometry, &problem) ||
+      !ValidateStereoLoopClosingConfig(config.loop_closure, &problem) ||
+      !ValidateLoopsConfig(config.loops, &problem)) {
     *error = problem;
     return false;
   }
@@ -121,6 +139,7 @@ std::string StereoRunConfigToYaml(const StereoRunConfig& config) {
   std::ostringstream out;
   out.precision(10);
   PrintSection(Schema(&copy), 0, &out);
+  out << LoopsConfigToYaml(copy.loops);
   return out.str();
 }
 

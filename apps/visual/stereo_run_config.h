@@ -13,6 +13,8 @@
 //     features: {...}                 # frontends/stereo/stereo_features.h
 //     tracking: {...}, keyframes: {...}, bundle_adjustment: {...}
 //                                     # frontends/stereo/stereo_odometry.h
+//     loop_closure: {...}             # frontends/stereo/stereo_loop_closing.h
+//   loops: {...}                      # place recognition, as slam loops
 // The evaluation against the ground truth follows the file's `eval:` section
 // (the keys of `slam eval`, apps/eval_report.h).
 #ifndef SLAM_APPS_VISUAL_STEREO_RUN_CONFIG_H_
@@ -20,7 +22,9 @@
 
 #include <string>
 
+#include "apps/visual/loops_config.h"
 #include "frontends/stereo/stereo_features.h"
+#include "frontends/stereo/stereo_loop_closing.h"
 #include "frontends/stereo/stereo_odometry.h"
 
 namespace slam {
@@ -32,8 +36,16 @@ struct StereoRunConfig {
   std::string output_dir = "out/stereo";
   double frame_period = 0.1;
   int max_frames = 0;
+  // "forward", or "forward_backward": frames 0..n-1 then n-2..0 (a loop
+  // test on a sequence without one; stamps continue, the ground truth is
+  // played the same way).
+  std::string playback = "forward";
   StereoFeatureConfig features;
   StereoOdometryConfig odometry;
+  StereoLoopClosingConfig loop_closure;
+  // Place recognition: the file's `loops:` section (apps/visual/
+  // loops_config.h; its vocabulary, or one trained on the keyframes).
+  LoopsConfig loops;
 };
 
 // The `pipeline` value of a config's run: section ("laser" when absent);

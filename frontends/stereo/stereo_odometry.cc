@@ -13,6 +13,7 @@
 
 #include "ceres/ceres.h"
 #include "factors/landmark_factors.h"
+#include "factors/pose_factors.h"
 
 namespace slam {
 namespace {
@@ -391,6 +392,7 @@ int64_t StereoOdometry::AddKeyframe(const StereoFeatureFrame& frame,
     const Eigen::Vector3d pw = r * pc + pose.t;
     const int64_t pid = static_cast<int64_t>(points_.size());
     points_.emplace_back();
+    points_.back().anchor_keyframe = id;
     point_alive_.push_back(true);
     graph_.AddNode(Point3Key(pid), {pw.x(), pw.y(), pw.z()});
     if (!observe(static_cast<int>(i), pid)) {
@@ -645,12 +647,16 @@ void StereoOdometry::Finish() {
   for (const auto& [id, factor] : graph_.factors()) {
     std::vector<double*> blocks = graph_.ParameterBlocks(factor);
     problem.AddResidualBlock(factor.cost.get(), factor.loss.get(), blocks);
-    if (!ordering->IsMember(blocks[0])) {
-      problem.SetManifold(blocks[0], const_cast<ceres::Manifold*>(manifold));
-      ordering->AddElementToGroup(blocks[0], 1);
+    // Points first in the elimination; poses (also both ends of a loop
+    // constraint) on their manifold.
+    for (size_t b = 0; b < blocks.size(); ++b) {
+      if (ordering->IsMember(blocks[b])) continue;
+      const bool pose = factor.keys[b].kind == NodeKind::kPose3;
+      if (pose) {
+        problem.SetManifold(blocks[b], const_cast<ceres::Manifold*>(manifold));
+      }
+      ordering->AddElementToGroup(blocks[b], pose ? 1 : 0);
     }
-    if (!ordering->IsMember(blocks[1]))
-      ordering->AddElementToGroup(blocks[1], 0);
   }
   double* first = graph_.FindNode(Pose3Key(0))->value.data();
   if (problem.HasParameterBlock(first))
@@ -705,6 +711,43 @@ std::vector<StereoOdometry::PointTrack> StereoOdometry::PointTracks() const {
     tracks.push_back(std::move(t));
   }
   return tracks;
+}
+
+}  // namespace slam
+
+namespace slam {
+
+void StereoOdometry::MoveKeyframes(const std::vector<Pose3>& poses) {
+  std::vector<Pose3> corrections(keyframes_.size());
+  for (size_t k = 0; k < keyframes_.size() && k < poses.size(); ++k) {
+    Node* node = graph_.FindNode(Pose3Key(static_cast<int64_t>(k)));
+    corrections[k] = poses[k] * NodePose3(*node).Inverse();
+    const std::vector<double> value = Pose3Value(poses[k]);
+    std::copy(value.begin(), value.end(), node->value.begin());
+  }
+  for (size_t p = 0; p < points_.size(); ++p) {
+    if (!point_alive_[p]) continue;
+    Node* node = graph_.FindNode(Point3Key(static_cast<int64_t>(p)));
+    const Pose3& c = corrections[points_[p].anchor_keyframe];
+    const Eigen::Vector3d moved =
+        c.q * Eigen::Vector3d(node->value[0], node->value[1], node->value[2]) +
+        c.t;
+    for (int i = 0; i < 3; ++i) node->value[i] = moved[i];
+  }
+}
+
+FactorId StereoOdometry::AddKeyframeConstraint(
+    int64_t candidate, int64_t query, const Pose3& measurement,
+    const Eigen::Matrix<double, 6, 6>& information,
+    std::shared_ptr<ceres::LossFunction> loss) {
+  Factor factor;
+  std::string error;
+  if (!MakeBetweenSE3(Pose3Key(candidate), Pose3Key(query), measurement,
+                      information, &factor, &error)) {
+    return -1;
+  }
+  factor.loss = std::move(loss);
+  return graph_.AddFactor(std::move(factor));
 }
 
 }  // namespace slam

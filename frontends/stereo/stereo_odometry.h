@@ -60,6 +60,7 @@
 #define SLAM_FRONTENDS_STEREO_STEREO_ODOMETRY_H_
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -170,6 +171,25 @@ class StereoOdometry {
   std::vector<PointTrack> PointTracks() const;
   // The graph for computations that need write access (marginals).
   Graph* mutable_graph() { return &graph_; }
+
+  // Keyframes, for loop closing (stereo_loop_closing.h).
+  size_t NumKeyframes() const { return keyframes_.size(); }
+  Pose3 KeyframePose(int64_t keyframe) const;
+  const StereoFeatureFrame& KeyframeFeatures(int64_t keyframe) const {
+    return keyframes_[keyframe].features;
+  }
+  // Moves every keyframe to `poses` (one per keyframe) and every map point
+  // with the keyframe that created it (rigidly), so that the map follows a
+  // pose-graph correction.
+  void MoveKeyframes(const std::vector<Pose3>& poses);
+  // Adds a relative-pose constraint between two keyframes (a loop closure:
+  // measurement of T_candidate^-1 T_query, information over the between
+  // factor's error, factors/between_se3.h) with a robust kernel; the final
+  // global bundle adjustment (Finish) includes it. -1 if invalid.
+  FactorId AddKeyframeConstraint(int64_t candidate, int64_t query,
+                                 const Pose3& measurement,
+                                 const Eigen::Matrix<double, 6, 6>& information,
+                                 std::shared_ptr<ceres::LossFunction> loss);
   const StereoOdometryStats& stats() const { return stats_; }
 
  private:
@@ -181,7 +201,8 @@ class StereoOdometry {
   struct MapPoint {
     cv::Mat descriptor;  // 1 x 32, from the latest keyframe observing it.
     std::vector<Observation> observations;
-    int64_t local_stamp = -1;  // Frame that last put it into a local map.
+    int64_t local_stamp = -1;     // Frame that last put it into a local map.
+    int64_t anchor_keyframe = 0;  // The keyframe that created it.
   };
   struct Keyframe {
     int64_t frame_index = 0;
@@ -204,7 +225,6 @@ class StereoOdometry {
   };
 
   Pose3 FramePose(const FrameRecord& record) const;
-  Pose3 KeyframePose(int64_t keyframe) const;
   Eigen::Vector3d PointValue(int64_t point) const;
   std::vector<int64_t> LocalMapPoints(int64_t frame_index);
   std::vector<Match> SearchByProjection(const StereoFeatureFrame& frame,
