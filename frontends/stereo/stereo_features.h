@@ -36,7 +36,7 @@
 namespace slam {
 
 struct StereoFeatureConfig {
-  int max_features = 2000;    // Per image, after bucketing.
+  int max_features = 3000;    // Per image, after bucketing.
   double scale_factor = 1.2;  // ORB pyramid.
   int levels = 8;
   int fast_threshold = 12;  // FAST intensity threshold.
