@@ -17,6 +17,7 @@
 
 #include "datasets/atomic_file.h"
 #include "datasets/g2o_io.h"
+#include "datasets/text_util.h"
 
 namespace slam {
 namespace {
@@ -143,10 +144,32 @@ bool MakeQuaternion(double x, double y, double z, double w,
   return true;
 }
 
-// Stamps must increase strictly; `lines` holds the line of each stamp.
+// What a reader returns besides the poses (see TrajectoryData).
+struct ReadExtras {
+  bool allow_duplicate_stamps = false;
+  std::vector<double> seconds;            // Stamps as parsed (float64 s).
+  std::vector<Eigen::Matrix3d> matrices;  // KITTI: 3x3 blocks as read.
+  size_t duplicate_stamps = 0;
+  std::string warning;
+};
+
+// Stamps must increase strictly (or, with extras->allow_duplicate_stamps,
+// not decrease: duplicates are counted and described in extras->warning);
+// `lines` holds the line of each stamp.
 bool CheckIncreasing(const Trajectory& t, const std::vector<int>& lines,
-                     const std::string& path, std::string* error) {
+                     const std::string& path, ReadExtras* extras,
+                     std::string* error) {
   for (size_t i = 1; i < t.size(); ++i) {
+    if (t[i].stamp == t[i - 1].stamp && extras != nullptr &&
+        extras->allow_duplicate_stamps) {
+      if (extras->duplicate_stamps++ == 0) {
+        extras->warning = Where(path, lines[i]) + "timestamp " +
+                          FormatStampSeconds(t[i].stamp) +
+                          " s is a duplicate of the one on line " +
+                          std::to_string(lines[i - 1]);
+      }
+      continue;
+    }
     if (t[i].stamp <= t[i - 1].stamp) {
       *error = Where(path, lines[i]) + "timestamp " +
                FormatStampSeconds(t[i].stamp) + " s is " +
@@ -157,6 +180,14 @@ bool CheckIncreasing(const Trajectory& t, const std::vector<int>& lines,
                "remove duplicates)";
       return false;
     }
+  }
+  if (extras != nullptr && extras->duplicate_stamps > 0) {
+    extras->warning = std::to_string(extras->duplicate_stamps) +
+                      " duplicate stamp" +
+                      (extras->duplicate_stamps > 1 ? "s" : "") +
+                      " (first: " + extras->warning +
+                      "); kept, as evo does: a stamp is matched to the "
+                      "first pose with the nearest stamp";
   }
   return true;
 }
@@ -228,7 +259,9 @@ std::string FormatStampSeconds(TimeNs stamp) {
   return buf;
 }
 
-bool ParseStampSeconds(const std::string& text, TimeNs* stamp) {
+namespace {
+
+bool ParseStampSecondsView(std::string_view text, TimeNs* stamp) {
   if (text.empty()) return false;
   size_t i = 0;
   bool negative = false;
@@ -273,9 +306,17 @@ bool ParseStampSeconds(const std::string& text, TimeNs* stamp) {
   }
   // Exponent notation (or huge): through double.
   double value = 0.0;
-  if (!ParseDouble(text, &value) || std::fabs(value) > 9.2e9) return false;
+  if (!slam::text::ParseDouble(text, &value) || std::fabs(value) > 9.2e9) {
+    return false;
+  }
   *stamp = SecondsToNs(value);
   return true;
+}
+
+}  // namespace
+
+bool ParseStampSeconds(const std::string& text, TimeNs* stamp) {
+  return ParseStampSecondsView(text, stamp);
 }
 
 bool DetectTrajectoryFormat(const std::string& path, TrajectoryFormat* format,
@@ -341,69 +382,103 @@ bool DetectTrajectoryFormat(const std::string& path, TrajectoryFormat* format,
   return false;
 }
 
-bool ReadTumTrajectory(const std::string& path, Trajectory* trajectory,
-                       std::string* error) {
+namespace {
+
+// "field 3 ('abc') is not a finite number".
+std::string BadField(size_t index, std::string_view token) {
+  return "field " + std::to_string(index + 1) + " ('" + text::Printable(token) +
+         "') is not a finite number";
+}
+
+// Parses tokens[first, first + count) as doubles; names the bad one.
+bool ParseFields(const std::vector<std::string_view>& tokens, size_t first,
+                 size_t count, double* out, const std::string& path, int line,
+                 std::string* error) {
+  for (size_t i = 0; i < count; ++i) {
+    if (!text::ParseDouble(tokens[first + i], &out[i])) {
+      *error = Where(path, line) + BadField(first + i, tokens[first + i]);
+      return false;
+    }
+  }
+  return true;
+}
+
+bool ReadTum(const std::string& path, Trajectory* trajectory,
+             ReadExtras* extras, std::string* error) {
   trajectory->clear();
   std::string content;
   if (!ReadWholeFile(path, &content, error)) return false;
   std::vector<int> lines;
-  const bool ok = ForEachLine(content, [&](int n, const std::string& line) {
-    if (IsSkippable(line)) return true;
-    const std::string where = Where(path, n);
-    const std::vector<std::string> tokens = SplitWhitespace(line);
+  // The number parser of the pose-graph readers (std::from_chars); lines
+  // and '#' comments as there.
+  text::LineTokenizer tokenizer(content);
+  while (tokenizer.Next()) {
+    const int n = static_cast<int>(tokenizer.line());
+    const std::vector<std::string_view>& tokens = tokenizer.tokens();
     if (tokens.size() != 8) {
-      *error = where + "expected 8 values (t x y z qx qy qz qw), found " +
+      *error = Where(path, n) +
+               "expected 8 values (t x y z qx qy qz qw), found " +
                std::to_string(tokens.size());
       return false;
     }
     double v[8];
-    if (!ParseValues(tokens, 0, 8, v, where, error)) return false;
+    if (!ParseFields(tokens, 0, 8, v, path, n, error)) return false;
     if (std::fabs(v[0]) > kMaxSecondsStamp) {
-      *error = where + "timestamp " + tokens[0] +
+      *error = Where(path, n) + "timestamp " + text::Printable(tokens[0]) +
                " is too large for seconds: it looks like nanoseconds (or "
                "microseconds); TUM stamps are seconds - divide by 1e9 (EuRoC "
                "CSV files with nanosecond stamps: use the euroc format)";
       return false;
     }
     StampedPose p;
-    if (!ParseStampSeconds(tokens[0], &p.stamp)) {
-      *error = where + "bad timestamp '" + tokens[0] + "'";
+    if (!ParseStampSecondsView(tokens[0], &p.stamp)) {
+      *error =
+          Where(path, n) + "bad timestamp '" + text::Printable(tokens[0]) + "'";
       return false;
     }
     Eigen::Quaterniond q;
-    if (!MakeQuaternion(v[4], v[5], v[6], v[7], where, &q, error)) {
+    if (!MakeQuaternion(v[4], v[5], v[6], v[7], Where(path, n), &q, error)) {
       return false;
     }
     p.pose = Pose3(Eigen::Vector3d(v[1], v[2], v[3]), q);
     trajectory->push_back(p);
     lines.push_back(n);
-    return true;
-  });
-  if (!ok) return false;
+    if (extras != nullptr) extras->seconds.push_back(v[0]);
+  }
   if (trajectory->empty()) {
     *error = path + ": no poses (expected lines 't x y z qx qy qz qw')";
     return false;
   }
-  return CheckIncreasing(*trajectory, lines, path, error);
+  return CheckIncreasing(*trajectory, lines, path, extras, error);
 }
 
-bool ReadKittiPoses(const std::string& path, const std::string& times_path,
-                    Trajectory* trajectory, bool* has_stamps,
-                    std::string* error) {
+}  // namespace
+
+bool ReadTumTrajectory(const std::string& path, Trajectory* trajectory,
+                       std::string* error) {
+  return ReadTum(path, trajectory, nullptr, error);
+}
+
+namespace {
+
+bool ReadKitti(const std::string& path, const std::string& times_path,
+               Trajectory* trajectory, bool* has_stamps, ReadExtras* extras,
+               std::string* error) {
   trajectory->clear();
   std::string content;
   if (!ReadWholeFile(path, &content, error)) return false;
-  const bool ok = ForEachLine(content, [&](int n, const std::string& line) {
-    if (IsSkippable(line)) return true;
-    const std::string where = Where(path, n);
-    const std::vector<std::string> tokens = SplitWhitespace(line);
+  text::LineTokenizer tokenizer(content);
+  while (tokenizer.Next()) {
+    const int n = static_cast<int>(tokenizer.line());
+    const std::vector<std::string_view>& tokens = tokenizer.tokens();
     if (tokens.size() != 12) {
-      *error = where + "expected 12 values (3x4 row-major pose), found " +
+      *error = Where(path, n) +
+               "expected 12 values (3x4 row-major pose), found " +
                std::to_string(tokens.size());
       return false;
     }
     double v[12];
-    if (!ParseValues(tokens, 0, 12, v, where, error)) return false;
+    if (!ParseFields(tokens, 0, 12, v, path, n, error)) return false;
     Eigen::Matrix3d r;
     r << v[0], v[1], v[2], v[4], v[5], v[6], v[8], v[9], v[10];
     const double orth =
@@ -414,10 +489,11 @@ bool ReadKittiPoses(const std::string& path, const std::string& times_path,
                     "the 3x3 part is not a rotation (|R^T R - I| = %.3g, "
                     "det = %.6g)",
                     orth, r.determinant());
-      *error = where + buf;
+      *error = Where(path, n) + buf;
       return false;
     }
-    // Nearest rotation (published files keep ~7 significant digits).
+    // Pose3 holds the nearest rotation (published files keep ~7 significant
+    // digits); the evaluation uses the matrix as read (extras->matrices).
     Eigen::JacobiSVD<Eigen::Matrix3d> svd(
         r, Eigen::ComputeFullU | Eigen::ComputeFullV);
     const Eigen::Matrix3d rp = svd.matrixU() * svd.matrixV().transpose();
@@ -425,40 +501,46 @@ bool ReadKittiPoses(const std::string& path, const std::string& times_path,
     p.stamp = static_cast<TimeNs>(trajectory->size()) * kNanosecondsPerSecond;
     p.pose = Pose3(Eigen::Vector3d(v[3], v[7], v[11]), Eigen::Quaterniond(rp));
     trajectory->push_back(p);
-    return true;
-  });
-  if (!ok) return false;
+    if (extras != nullptr) extras->matrices.push_back(r);
+  }
   if (trajectory->empty()) {
     *error = path + ": no poses (expected 12 values per line)";
     return false;
   }
   *has_stamps = false;
-  if (times_path.empty()) return true;
+  if (times_path.empty()) {
+    if (extras != nullptr) {
+      for (size_t i = 0; i < trajectory->size(); ++i) {
+        extras->seconds.push_back(static_cast<double>(i));
+      }
+    }
+    return true;
+  }
 
   if (!ReadWholeFile(times_path, &content, error)) return false;
   std::vector<TimeNs> stamps;
+  std::vector<double> seconds;
   std::vector<int> lines;
-  const bool times_ok =
-      ForEachLine(content, [&](int n, const std::string& line) {
-        if (IsSkippable(line)) return true;
-        const std::vector<std::string> tokens = SplitWhitespace(line);
-        TimeNs t = 0;
-        double v = 0.0;
-        if (tokens.size() != 1 || !ParseDouble(tokens[0], &v) ||
-            !ParseStampSeconds(tokens[0], &t)) {
-          *error = Where(times_path, n) + "expected one stamp in seconds";
-          return false;
-        }
-        if (std::fabs(v) > kMaxSecondsStamp) {
-          *error = Where(times_path, n) + "stamp " + tokens[0] +
-                   " is too large for seconds (nanoseconds?)";
-          return false;
-        }
-        stamps.push_back(t);
-        lines.push_back(n);
-        return true;
-      });
-  if (!times_ok) return false;
+  text::LineTokenizer times(content);
+  while (times.Next()) {
+    const int n = static_cast<int>(times.line());
+    const std::vector<std::string_view>& tokens = times.tokens();
+    TimeNs t = 0;
+    double v = 0.0;
+    if (tokens.size() != 1 || !text::ParseDouble(tokens[0], &v) ||
+        !ParseStampSecondsView(tokens[0], &t)) {
+      *error = Where(times_path, n) + "expected one stamp in seconds";
+      return false;
+    }
+    if (std::fabs(v) > kMaxSecondsStamp) {
+      *error = Where(times_path, n) + "stamp " + text::Printable(tokens[0]) +
+               " is too large for seconds (nanoseconds?)";
+      return false;
+    }
+    stamps.push_back(t);
+    seconds.push_back(v);
+    lines.push_back(n);
+  }
   if (stamps.size() != trajectory->size()) {
     *error = times_path + ": " + std::to_string(stamps.size()) +
              " stamps for " + std::to_string(trajectory->size()) +
@@ -466,13 +548,26 @@ bool ReadKittiPoses(const std::string& path, const std::string& times_path,
     return false;
   }
   for (size_t i = 0; i < stamps.size(); ++i) (*trajectory)[i].stamp = stamps[i];
-  if (!CheckIncreasing(*trajectory, lines, times_path, error)) return false;
+  if (!CheckIncreasing(*trajectory, lines, times_path, extras, error)) {
+    return false;
+  }
+  if (extras != nullptr) extras->seconds = std::move(seconds);
   *has_stamps = true;
   return true;
 }
 
-bool ReadEurocTrajectory(const std::string& path_in, Trajectory* trajectory,
-                         std::string* error) {
+}  // namespace
+
+bool ReadKittiPoses(const std::string& path, const std::string& times_path,
+                    Trajectory* trajectory, bool* has_stamps,
+                    std::string* error) {
+  return ReadKitti(path, times_path, trajectory, has_stamps, nullptr, error);
+}
+
+namespace {
+
+bool ReadEuroc(const std::string& path_in, Trajectory* trajectory,
+               ReadExtras* extras, std::string* error) {
   trajectory->clear();
   const std::string path = ResolveEurocPath(path_in);
   std::string content;
@@ -517,6 +612,10 @@ bool ReadEurocTrajectory(const std::string& path_in, Trajectory* trajectory,
     p.pose = Pose3(Eigen::Vector3d(v[0], v[1], v[2]), q);
     trajectory->push_back(p);
     lines.push_back(n);
+    // evo: the stamp column read as float64, divided by 1e9.
+    if (extras != nullptr) {
+      extras->seconds.push_back(static_cast<double>(ns) / 1e9);
+    }
     return true;
   });
   if (!ok) return false;
@@ -526,7 +625,14 @@ bool ReadEurocTrajectory(const std::string& path_in, Trajectory* trajectory,
              "qx,qy,qz')";
     return false;
   }
-  return CheckIncreasing(*trajectory, lines, path, error);
+  return CheckIncreasing(*trajectory, lines, path, extras, error);
+}
+
+}  // namespace
+
+bool ReadEurocTrajectory(const std::string& path, Trajectory* trajectory,
+                         std::string* error) {
+  return ReadEuroc(path, trajectory, nullptr, error);
 }
 
 bool ReadG2oPoses(const std::string& path, Trajectory* trajectory,
@@ -570,22 +676,43 @@ bool ReadTrajectory(const std::string& path,
   }
   data->format = format;
   data->has_stamps = true;
+  ReadExtras extras;
+  extras.allow_duplicate_stamps = options.allow_duplicate_stamps;
+  bool ok = false;
   switch (format) {
     case TrajectoryFormat::kTum:
-      return ReadTumTrajectory(path, &data->poses, error);
+      ok = ReadTum(path, &data->poses, &extras, error);
+      break;
     case TrajectoryFormat::kKitti:
-      return ReadKittiPoses(path, options.kitti_times_path, &data->poses,
-                            &data->has_stamps, error);
+      ok = ReadKitti(path, options.kitti_times_path, &data->poses,
+                     &data->has_stamps, &extras, error);
+      break;
     case TrajectoryFormat::kEuroc:
       data->path = ResolveEurocPath(path);
-      return ReadEurocTrajectory(path, &data->poses, error);
-    case TrajectoryFormat::kG2o:
-      return ReadG2oPoses(path, &data->poses, error);
-    case TrajectoryFormat::kAuto:
+      ok = ReadEuroc(path, &data->poses, &extras, error);
       break;
+    case TrajectoryFormat::kG2o:
+      ok = ReadG2oPoses(path, &data->poses, error);
+      break;
+    case TrajectoryFormat::kAuto:
+      *error = path + ": no trajectory format";
+      return false;
   }
-  *error = path + ": no trajectory format";
-  return false;
+  if (!ok) return false;
+  data->seconds = std::move(extras.seconds);
+  data->matrices = std::move(extras.matrices);
+  data->duplicate_stamps = extras.duplicate_stamps;
+  data->warning = std::move(extras.warning);
+  return true;
+}
+
+EvalTrajectory ToEvalTrajectory(const TrajectoryData& data) {
+  EvalTrajectory out = ToEvalTrajectory(data.poses);
+  if (data.seconds.size() == out.size()) out.seconds = data.seconds;
+  if (data.matrices.size() == out.size()) {
+    for (size_t i = 0; i < out.size(); ++i) out.poses[i].r = data.matrices[i];
+  }
+  return out;
 }
 
 bool WriteTrajectory(const std::string& path, const Trajectory& trajectory,
