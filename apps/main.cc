@@ -6,6 +6,14 @@
 //   slam run --config configs/aces.yaml          2D laser SLAM on a CARMEN log
 //   slam inertial -i IN -o DIR [flags]           IMU window / batch
 //   slam eval --ref GT --est EST [flags]         APE / RPE / KITTI metric
+//   slam run --config configs/kitti_stereo.yaml  stereo visual odometry
+//
+// Two binaries are built from this file. `slam-visual` (SLAM_VISUAL_COMMANDS)
+// has every command, including those that read images (run, which also runs
+// the stereo pipeline, and the place-recognition commands); `slam` has the
+// rest and hands the image commands to slam-visual with the same arguments
+// (apps/visual_forward.h) before parsing any flag, so that pose-graph and
+// evaluation runs do not load OpenCV's image libraries.
 //
 // Every setting also has a YAML form (--config FILE); --dump_config prints
 // the effective configuration.
@@ -38,6 +46,10 @@
 
 #include "apps/commands.h"
 #include "apps/process_heap.h"
+#include "apps/visual_forward.h"
+#ifdef SLAM_VISUAL_COMMANDS
+#include "apps/visual/visual_commands.h"
+#endif
 
 namespace {
 
@@ -47,6 +59,15 @@ struct Command {
   std::vector<std::string> flag_files;  // Owns every flag defined in these.
   std::vector<std::string> flags;       // And these, defined elsewhere.
 };
+
+// The image commands: run in-process by slam-visual; `slam` forwards them
+// before they could be looked up here (IsVisualCommand), so its entries
+// only serve the usage text.
+#ifdef SLAM_VISUAL_COMMANDS
+constexpr auto kRun = &slam::RunRunOrStereoCommand;
+#else
+constexpr auto kRun = &slam::RunForwardedCommand;
+#endif
 
 const std::map<std::string, Command>& Commands() {
   static const auto* commands = new std::map<std::string, Command>{
@@ -66,9 +87,10 @@ const std::map<std::string, Command>& Commands() {
         {"eval_command.cc"},
         {"config", "dump_config", "report", "plot"}}},
       {"run",
-       {slam::RunRunCommand,
-        "2D laser SLAM on a CARMEN log: slam run --config configs/aces.yaml",
-        {"run_command.cc"},
+       {kRun,
+        "2D laser SLAM on a CARMEN log or stereo visual odometry on a KITTI "
+        "folder: slam run --config configs/aces.yaml|kitti_stereo.yaml",
+        {"run_command.cc", "stereo_run_command.cc"},
         {"config", "dump_config"}}},
       {"inertial",
        {slam::RunInertialCommand,
@@ -162,6 +184,10 @@ int main(int argc, char** argv) {
     return argc < 2 ? 2 : 0;
   }
   const std::string name = argv[1];
+#ifndef SLAM_VISUAL_COMMANDS
+  if (slam::IsVisualCommand(name))
+    return slam::ForwardToVisualBinary(argc, argv);
+#endif
   auto it = Commands().find(name);
   if (it == Commands().end()) {
     std::fprintf(stderr, "slam: unknown command '%s'\n\n", name.c_str());
