@@ -326,12 +326,20 @@ int RunEvalCommand(const std::vector<std::string>& args) {
   TrajectoryData ref, est;
   if (!ReadTrajectory(ref_path, ref_options, &ref, &error)) return Fail(error);
   if (!ReadTrajectory(est_path, est_options, &est, &error)) return Fail(error);
+  const EvalTrajectory ref_eval = ToEvalTrajectory(ref);
+  const EvalTrajectory est_eval = ToEvalTrajectory(est);
   const auto loaded = std::chrono::steady_clock::now();
   std::cout << "reference: " << Describe(ref) << "\n"
             << "estimate:  " << Describe(est) << "\n";
-  for (const TrajectoryData* d : {&ref, &est}) {
+  for (TrajectoryData* d : {&ref, &est}) {
     if (!d->warning.empty())
       std::cerr << "slam eval: warning: " << d->warning << "\n";
+    // The evaluation works on the copies above; giving this memory back
+    // lets it reuse the pages instead of faulting in new ones (a third of
+    // the time of a million-pose evaluation).
+    d->poses = Trajectory();
+    d->seconds = std::vector<double>();
+    d->matrices = std::vector<Eigen::Matrix3d>();
   }
   if (associate_auto) {
     settings.association = ChooseAssociation(ref.has_stamps, est.has_stamps);
@@ -347,8 +355,8 @@ int RunEvalCommand(const std::vector<std::string>& args) {
   labels.ref_name = std::filesystem::path(ref.path).filename().string();
   labels.est_name = std::filesystem::path(est.path).filename().string();
   EvalResult result;
-  if (!EvaluateAndReport(ToEvalTrajectory(ref), ToEvalTrajectory(est), settings,
-                         labels, FLAGS_plot, std::cout, &result, &error)) {
+  if (!EvaluateAndReport(ref_eval, est_eval, settings, labels, FLAGS_plot,
+                         std::cout, &result, &error)) {
     return Fail(error);
   }
   const auto done = std::chrono::steady_clock::now();
@@ -367,11 +375,11 @@ int RunEvalCommand(const std::vector<std::string>& args) {
     JsonObject ref_json, est_json;
     ref_json.Add("path", ref.path)
         .Add("format", TrajectoryFormatName(ref.format))
-        .Add("poses", ref.poses.size())
+        .Add("poses", ref_eval.size())
         .Add("has_stamps", ref.has_stamps);
     est_json.Add("path", est.path)
         .Add("format", TrajectoryFormatName(est.format))
-        .Add("poses", est.poses.size())
+        .Add("poses", est_eval.size())
         .Add("has_stamps", est.has_stamps);
     report.Add("command", "eval")
         .Add("reference", ref_json)

@@ -54,7 +54,11 @@ std::vector<MatrixPose> ToMatrixPoses(const std::vector<Pose3>& poses) {
 }
 
 double NearestSeconds(TimeNs ns) {
-  // Exact decimal text, then the correctly rounded double of it.
+  // Up to 2^53 the integer is exact in a double and IEEE division rounds
+  // correctly.
+  constexpr TimeNs kExact = TimeNs{1} << 53;
+  if (ns > -kExact && ns < kExact) return static_cast<double>(ns) / 1e9;
+  // Otherwise the exact decimal text, then its correctly rounded double.
   char buf[40];
   const bool negative = ns < 0;
   const unsigned long long a = negative
@@ -926,6 +930,10 @@ bool EvaluateTrajectories(const EvalTrajectory& ref, const EvalTrajectory& est,
     }
   }
   const Association& a = result->association;
+  result->ref.reserve(a.size());
+  result->ref_stamps.reserve(a.size());
+  result->est.reserve(a.size());
+  result->est_stamps.reserve(a.size());
   for (size_t k = 0; k < a.size(); ++k) {
     result->ref.push_back(ref.poses[a.ref_indices[k]]);
     result->ref_stamps.push_back(ref.stamps[a.ref_indices[k]]);

@@ -31,15 +31,8 @@ bool ReadWholeFile(const std::string& path, std::string* content,
     *error = path + ": is a directory, not a trajectory file";
     return false;
   }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    *error = path + ": cannot open (" + std::strerror(errno) + ")";
-    return false;
-  }
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  *content = ss.str();
-  return true;
+  // One read into a string of the file's size (no stream copies).
+  return text::ReadWholeFile(path, content, error);
 }
 
 // Calls fn(line_number, line) for every line (without '\n' or '\r').
@@ -707,10 +700,19 @@ bool ReadTrajectory(const std::string& path,
 }
 
 EvalTrajectory ToEvalTrajectory(const TrajectoryData& data) {
-  EvalTrajectory out = ToEvalTrajectory(data.poses);
-  if (data.seconds.size() == out.size()) out.seconds = data.seconds;
-  if (data.matrices.size() == out.size()) {
-    for (size_t i = 0; i < out.size(); ++i) out.poses[i].r = data.matrices[i];
+  const size_t n = data.poses.size();
+  const bool has_seconds = data.seconds.size() == n;
+  const bool has_matrices = data.matrices.size() == n;
+  EvalTrajectory out;
+  out.stamps.resize(n);
+  out.seconds.resize(n);
+  out.poses.resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    const StampedPose& p = data.poses[i];
+    out.stamps[i] = p.stamp;
+    out.seconds[i] = has_seconds ? data.seconds[i] : NearestSeconds(p.stamp);
+    out.poses[i] = has_matrices ? MatrixPose(data.matrices[i], p.pose.t)
+                                : MatrixPose(p.pose);
   }
   return out;
 }

@@ -188,6 +188,13 @@ TEST(EvaluationTest, DegenerateAlignmentIsAnError) {
   EXPECT_NE(error.find("degenerate"), std::string::npos) << error;
   s.align = AlignmentMethod::kNone;
   EXPECT_TRUE(EvaluateTrajectories(line, line, s, &r, &error)) << error;
+  // One matched pose: the message states the check (2, it said 3).
+  s.align = AlignmentMethod::kSE3;
+  const Trajectory one(line.begin(), line.begin() + 1);
+  EXPECT_FALSE(EvaluateTrajectories(one, one, s, &r, &error));
+  EXPECT_NE(error.find("needs at least 2 matched positions (got 1)"),
+            std::string::npos)
+      << error;
 }
 
 // ------------------------------------------------------------------------ RPE
