@@ -22,6 +22,11 @@ std::string Format(const char* fmt, double a) {
 
 std::string Seconds(TimeNs ns) { return Format("%.6f", NsToSeconds(ns)); }
 
+// b - a in seconds, without int64 overflow for stamps of opposite signs.
+double SecondsBetween(TimeNs a, TimeNs b) {
+  return static_cast<double>(static_cast<__int128>(b) - a) * 1e-9;
+}
+
 // Relative pose a^-1 b (evo's relative_se3: the transpose as inverse).
 MatrixPose Between(const MatrixPose& a, const MatrixPose& b) {
   return a.TransposeInverse() * b;
@@ -717,20 +722,23 @@ bool SelectRpePairs(const std::vector<MatrixPose>& poses,
       if (options.all_pairs) {
         std::vector<double> t(n);
         for (size_t i = 0; i < n; ++i) {
-          t[i] = NsToSeconds(stamps[i] - stamps[0]);
+          t[i] = SecondsBetween(stamps[0], stamps[i]);
         }
         *pairs = ClosestDeltaPairs(t, options.delta,
                                    options.delta * options.rel_delta_tol);
       } else {
         // A delta longer than the whole trajectory gives no pair (and would
         // overflow int64 nanoseconds from about 9.2e9 s on).
-        if (n == 0 || options.delta > NsToSeconds(stamps.back() - stamps[0])) {
+        if (n == 0 ||
+            options.delta > SecondsBetween(stamps[0], stamps.back())) {
           break;
         }
-        const TimeNs d = SecondsToNs(options.delta);
+        // In 128 bits: the span of int64 stamps exceeds int64.
+        const __int128 d =
+            static_cast<__int128>(std::round(options.delta * 1e9));
         size_t start = 0;
         for (size_t j = 1; j < n; ++j) {
-          if (stamps[j] - stamps[start] >= d) {
+          if (static_cast<__int128>(stamps[j]) - stamps[start] >= d) {
             pairs->emplace_back(start, j);
             start = j;
           }

@@ -355,6 +355,21 @@ TEST(RpeTest, HugeDeltasGiveNoPair) {
       EXPECT_NE(error.find("no pose pair"), std::string::npos) << error;
     }
   }
+  // Stamps of opposite signs near the int64 limits: differences computed
+  // without overflow (no pair for 1 s, one over the whole span).
+  const std::vector<TimeNs> extreme = {-9000000000000000000ll, 0,
+                                       9000000000000000000ll};
+  std::vector<Pose3> three(ref.begin(), ref.begin() + 3);
+  o.all_pairs = false;
+  o.delta = 9e9;
+  ASSERT_TRUE(ComputeRpe(three, three, extreme, extreme, o, &e, &error))
+      << error;
+  EXPECT_EQ(e.pairs.size(), 2u);
+  o.delta = 1.8e10;
+  ASSERT_TRUE(ComputeRpe(three, three, extreme, extreme, o, &e, &error))
+      << error;
+  ASSERT_EQ(e.pairs.size(), 1u);
+  EXPECT_EQ(e.pairs[0], std::make_pair(size_t{0}, size_t{2}));
   o.all_pairs = false;
   o.delta = 4.0;  // Exactly the span: one pair.
   ASSERT_TRUE(ComputeRpe(ref, est, stamps, stamps, o, &e, &error)) << error;
