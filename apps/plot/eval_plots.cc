@@ -88,10 +88,9 @@ bool WriteEvalPlotsImpl(const std::string& dir, const EvalResult& r,
   };
   const std::string xl = std::string(1, names[ax]) + " [m]";
   const std::string yl = std::string(1, names[ay]) + " [m]";
-  const char* const align_names[] = {
-      "not aligned", "aligned with SE(3) Umeyama",
-      "aligned with Sim(3) Umeyama", "scale-corrected",
-      "aligned at the first pose"};
+  const char* const align_names[] = {"not aligned", "SE(3)-aligned",
+                                     "Sim(3)-aligned", "scale-corrected",
+                                     "aligned at the first pose"};
   const std::string align_name = align_names[static_cast<int>(s.align)];
 
   auto save = [&](const std::string& name, const cv::Mat& img) {
@@ -170,8 +169,13 @@ bool WriteEvalPlotsImpl(const std::string& dir, const EvalResult& r,
     std::vector<double> tj;
     for (const auto& pr : r.rpe.pairs) tj.push_back(t[pr.second]);
     plot::Axes at, ar;
-    at.title = "RPE translation " + OverAxis(r) + " (" +
-               DescribeRpeOptions(s.rpe) + "; estimate " + align_name + ")";
+    // Short enough for the width: the delta, the pairs, the alignment.
+    std::string rpe = "delta " + Fmt("%g", s.rpe.delta) + " " +
+                      DeltaUnitName(s.rpe.unit) +
+                      (s.rpe.all_pairs ? ", all pairs" : ", consecutive pairs");
+    if (s.rpe.pairs_from_reference) rpe += " on the reference";
+    at.title = "RPE translation " + OverAxis(r) + " (" + rpe + ", estimate " +
+               align_name + ")";
     at.xlabel = TimeLabel(r);
     at.ylabel = "RPE translation [m]";
     at.lines.push_back(
