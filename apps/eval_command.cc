@@ -318,9 +318,12 @@ int RunEvalCommand(const std::vector<std::string>& args) {
   }
   ref_options.kitti_times_path = FLAGS_ref_times;
   est_options.kitti_times_path = FLAGS_est_times;
-  // As evo, files with duplicate stamps are read (with a warning).
-  ref_options.allow_duplicate_stamps = est_options.allow_duplicate_stamps =
-      true;
+  // As evo, files with duplicate or unsorted stamps are read (with a
+  // warning); the association follows evo's on them.
+  for (TrajectoryReadOptions* o : {&ref_options, &est_options}) {
+    // Not for the relation error, which needs increasing stamps.
+    o->allow_duplicate_stamps = o->allow_unsorted_stamps = !relations;
+  }
   if (relations) return RunRelationEval(est_path, est_options, settings);
 
   TrajectoryData ref, est;

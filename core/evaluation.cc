@@ -152,46 +152,73 @@ Association AssociateByTimestamp(const EvalTrajectory& ref,
   // As evo: iterate over the trajectory with fewer poses (the estimate when
   // both have as many) and look up the nearest stamp of the other, whose
   // stamps carry the offset (+offset for the estimate, -offset for the
-  // reference), all in float64 seconds.
+  // reference), all in float64 seconds. evo takes numpy's argmin of
+  // |stamp - t| over the stamps in file order: the lowest index among the
+  // closest. Here the stamps are sorted (stably, so equal stamps keep their
+  // file order) and searched; files need not be sorted.
   const bool est_longer = est.size() > ref.size();
   const std::vector<double>& shorter = est_longer ? ref.seconds : est.seconds;
   const std::vector<double>& longer_raw =
       est_longer ? est.seconds : ref.seconds;
   result.max_pairs = shorter.size();
   const double offset = est_longer ? options.t_offset : -options.t_offset;
-  std::vector<double> longer(longer_raw.size());
-  for (size_t j = 0; j < longer.size(); ++j) longer[j] = longer_raw[j] + offset;
+  const size_t n = longer_raw.size();
+  std::vector<double> shifted(n);
+  for (size_t j = 0; j < n; ++j) shifted[j] = longer_raw[j] + offset;
+  std::vector<size_t> order(n);  // File indices by stamp.
+  for (size_t j = 0; j < n; ++j) order[j] = j;
+  if (!std::is_sorted(shifted.begin(), shifted.end())) {
+    std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+      return shifted[a] < shifted[b];
+    });
+  }
+  std::vector<double> value(n);
+  for (size_t j = 0; j < n; ++j) value[j] = shifted[order[j]];
+  // run_end[p]: the first position after the run of stamps equal to
+  // value[p]; the first of a run has the run's lowest file index.
+  std::vector<size_t> run_end(n);
+  for (size_t j = n; j-- > 0;) {
+    run_end[j] = j + 1 < n && value[j + 1] == value[j] ? run_end[j + 1] : j + 1;
+  }
 
   std::vector<size_t> short_ids;
   std::vector<size_t> long_ids;
   std::vector<double> abs_diffs;
-  const size_t n = longer.size();
   for (size_t s = 0; s < shorter.size(); ++s) {
     const double t = shorter[s];
-    // |longer[j] - t| falls up to k (the first j with longer[j] >= t) and
-    // rises from there; the first index of the minimum is the lowest index
-    // left of k with the value at k - 1, or k.
+    // |value[p] - t| does not increase up to k (the first p with value[p]
+    // >= t) and does not decrease from k on. Candidates: every run whose
+    // difference equals the smallest on its side (more than one run only
+    // when rounding maps different stamps to one difference).
     const size_t k = static_cast<size_t>(
-        std::lower_bound(longer.begin(), longer.end(), t) - longer.begin());
-    size_t best = n;
+        std::lower_bound(value.begin(), value.end(), t) - value.begin());
+    size_t best = n;  // File index.
     double best_diff = std::numeric_limits<double>::infinity();
+    auto consider = [&](size_t file_index, double diff) {
+      if (diff < best_diff || (diff == best_diff && file_index < best)) {
+        best = file_index;
+        best_diff = diff;
+      }
+    };
     if (k > 0) {
-      const double d = std::fabs(longer[k - 1] - t);
-      size_t lo = 0, hi = k - 1;  // First j in [lo, hi] with diff <= d.
+      const double d = std::fabs(value[k - 1] - t);
+      size_t lo = 0, hi = k - 1;  // First p in [lo, hi] with diff <= d.
       while (lo < hi) {
         const size_t mid = lo + (hi - lo) / 2;
-        if (std::fabs(longer[mid] - t) <= d) {
+        if (std::fabs(value[mid] - t) <= d) {
           hi = mid;
         } else {
           lo = mid + 1;
         }
       }
-      best = lo;
-      best_diff = d;
+      for (size_t p = lo; p < k; p = run_end[p]) consider(order[p], d);
     }
-    if (k < n && std::fabs(longer[k] - t) < best_diff) {
-      best = k;
-      best_diff = std::fabs(longer[k] - t);
+    if (k < n) {
+      const double d = std::fabs(value[k] - t);
+      for (size_t p = k; p < n && std::fabs(value[p] - t) == d;
+           p = run_end[p]) {
+        consider(order[p], d);
+      }
     }
     if (best < n && best_diff <= options.t_max_diff) {
       short_ids.push_back(s);
@@ -199,24 +226,27 @@ Association AssociateByTimestamp(const EvalTrajectory& ref,
       abs_diffs.push_back(best_diff);
     }
   }
-  // Long indices are non-decreasing; a run of equal ones is a pose of the
-  // longer trajectory in several pairs.
+  // A pose of the longer trajectory in several pairs: evo keeps them all;
+  // unique_pairs keeps the pair with the smallest difference (the first on
+  // a tie).
   std::vector<size_t> keep;
-  for (size_t i = 0; i < long_ids.size();) {
-    size_t j = i;
-    size_t best = i;
-    while (j < long_ids.size() && long_ids[j] == long_ids[i]) {
-      if (abs_diffs[j] < abs_diffs[best]) best = j;
-      ++j;
+  std::vector<size_t> best_pair(n, n);  // Per long index: its kept pair.
+  for (size_t i = 0; i < long_ids.size(); ++i) {
+    size_t& b = best_pair[long_ids[i]];
+    if (b == n) {
+      b = i;
+      continue;
     }
     if (options.unique_pairs) {
-      keep.push_back(best);
-      result.dropped_duplicates += (j - i) - 1;
+      if (abs_diffs[i] < abs_diffs[b]) b = i;
+      ++result.dropped_duplicates;
     } else {
-      for (size_t m = i; m < j; ++m) keep.push_back(m);
-      result.reused_poses += (j - i) - 1;
+      ++result.reused_poses;
     }
-    i = j;
+  }
+  for (size_t i = 0; i < long_ids.size(); ++i) {
+    if (options.unique_pairs && best_pair[long_ids[i]] != i) continue;
+    keep.push_back(i);
   }
   for (const size_t k : keep) {
     const size_t ri = est_longer ? short_ids[k] : long_ids[k];

@@ -12,14 +12,15 @@
 //   the ESTIMATE's stamps: evo adds it to the longer trajectory's stamps, or
 //   subtracts it from the reference's when the estimate is the shorter one),
 //   with the smallest |difference| (the first one on a tie, as numpy's
-//   argmin) and keep the pair when that difference is <= t_max_diff (default
-//   0.01 s). As evo, the stamps are compared as float64 seconds
-//   (EvalTrajectory::seconds, the values evo parses from the file), so a
-//   stamp exactly halfway between two others goes where evo's rounding puts
-//   it, and duplicate stamps are allowed (the first of equal stamps wins).
-//   As evo, a pose of the longer trajectory may be paired twice when
-//   t_max_diff is at least half its sampling interval
-//   (Association::reused_poses counts such pairs). unique_pairs (slam eval
+//   argmin, i.e. the first in file order) and keep the pair when that
+//   difference is <= t_max_diff (default 0.01 s); stamps need not be sorted. As
+//   evo, the stamps are compared as float64 seconds (EvalTrajectory::seconds,
+//   the values evo parses from the file), so a stamp exactly halfway between
+//   two others goes where evo's rounding puts it, and duplicate stamps are
+//   allowed (the first of equal stamps wins). As evo, a pose of the longer
+//   trajectory may be paired twice when t_max_diff is at least half its
+//   sampling interval (Association::reused_poses counts such pairs).
+//   unique_pairs (slam eval
 //   --unique_pairs; a deviation from evo) keeps pairs one-to-one instead: of
 //   pairs that share a pose, the one with the smallest |difference| stays
 //   (the earliest on a tie); the others are counted in dropped_duplicates.
@@ -183,14 +184,13 @@ struct Association {
   std::vector<size_t> est_indices;
   size_t max_pairs = 0;           // Poses of the shorter trajectory.
   size_t reused_poses = 0;        // Pairs whose pose of the longer
-                                  // trajectory is also in the previous pair.
+                                  // trajectory is also in an earlier pair.
   size_t dropped_duplicates = 0;  // unique_pairs: pairs removed.
   double max_abs_dt = 0.0;        // Largest |t_est + offset - t_ref| (s).
   size_t size() const { return ref_indices.size(); }
 };
 
-// Both trajectories must have non-decreasing stamps; options must pass
-// CheckAssociationOptions.
+// Stamps in any order (as evo); options must pass CheckAssociationOptions.
 Association AssociateByTimestamp(const EvalTrajectory& ref,
                                  const EvalTrajectory& est,
                                  const AssociationOptions& options);

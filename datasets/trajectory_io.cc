@@ -140,47 +140,60 @@ bool MakeQuaternion(double x, double y, double z, double w,
 // What a reader returns besides the poses (see TrajectoryData).
 struct ReadExtras {
   bool allow_duplicate_stamps = false;
+  bool allow_unsorted_stamps = false;
   std::vector<double> seconds;            // Stamps as parsed (float64 s).
   std::vector<Eigen::Matrix3d> matrices;  // KITTI: 3x3 blocks as read.
   size_t duplicate_stamps = 0;
+  size_t unsorted_stamps = 0;
   std::string warning;
 };
 
-// Stamps must increase strictly (or, with extras->allow_duplicate_stamps,
-// not decrease: duplicates are counted and described in extras->warning);
-// `lines` holds the line of each stamp.
+// Stamps must increase strictly. With extras->allow_duplicate_stamps an
+// equal stamp, with extras->allow_unsorted_stamps a smaller one, is counted
+// and described in extras->warning instead. `lines`: the line of each stamp.
 bool CheckIncreasing(const Trajectory& t, const std::vector<int>& lines,
                      const std::string& path, ReadExtras* extras,
                      std::string* error) {
+  std::string first_duplicate, first_unsorted;
   for (size_t i = 1; i < t.size(); ++i) {
-    if (t[i].stamp == t[i - 1].stamp && extras != nullptr &&
-        extras->allow_duplicate_stamps) {
-      if (extras->duplicate_stamps++ == 0) {
-        extras->warning = Where(path, lines[i]) + "timestamp " +
-                          FormatStampSeconds(t[i].stamp) +
-                          " s is a duplicate of the one on line " +
-                          std::to_string(lines[i - 1]);
-      }
+    if (t[i].stamp > t[i - 1].stamp) continue;
+    const bool duplicate = t[i].stamp == t[i - 1].stamp;
+    const std::string what = Where(path, lines[i]) + "timestamp " +
+                             FormatStampSeconds(t[i].stamp) + " s is " +
+                             (duplicate ? "a duplicate of" : "before") +
+                             " the one on line " + std::to_string(lines[i - 1]);
+    if (extras != nullptr && duplicate && extras->allow_duplicate_stamps) {
+      if (extras->duplicate_stamps++ == 0) first_duplicate = what;
       continue;
     }
-    if (t[i].stamp <= t[i - 1].stamp) {
-      *error = Where(path, lines[i]) + "timestamp " +
-               FormatStampSeconds(t[i].stamp) + " s is " +
-               (t[i].stamp == t[i - 1].stamp ? "a duplicate of" : "before") +
-               " the one on line " + std::to_string(lines[i - 1]) + " (" +
-               FormatStampSeconds(t[i - 1].stamp) +
-               " s): stamps must increase strictly (sort the file and "
-               "remove duplicates)";
-      return false;
+    if (extras != nullptr && !duplicate && extras->allow_unsorted_stamps) {
+      if (extras->unsorted_stamps++ == 0) first_unsorted = what;
+      continue;
     }
+    *error = what + " (" + FormatStampSeconds(t[i - 1].stamp) +
+             " s): stamps must increase strictly (sort the file and "
+             "remove duplicates)";
+    return false;
   }
-  if (extras != nullptr && extras->duplicate_stamps > 0) {
-    extras->warning = std::to_string(extras->duplicate_stamps) +
-                      " duplicate stamp" +
-                      (extras->duplicate_stamps > 1 ? "s" : "") +
-                      " (first: " + extras->warning +
-                      "); kept, as evo does: a stamp is matched to the "
-                      "first pose with the nearest stamp";
+  if (extras == nullptr) return true;
+  auto describe = [](size_t count, const char* kind, const std::string& first) {
+    return std::to_string(count) + " " + kind + (count > 1 ? "s" : "") +
+           " (first: " + first + ")";
+  };
+  std::string parts;
+  if (extras->duplicate_stamps > 0) {
+    parts =
+        describe(extras->duplicate_stamps, "duplicate stamp", first_duplicate);
+  }
+  if (extras->unsorted_stamps > 0) {
+    parts +=
+        (parts.empty() ? "" : ", ") +
+        describe(extras->unsorted_stamps, "decreasing stamp", first_unsorted);
+  }
+  if (!parts.empty()) {
+    extras->warning = parts +
+                      "; kept in file order, as evo does: a stamp is matched "
+                      "to the first pose (in the file) with the nearest stamp";
   }
   return true;
 }
@@ -671,6 +684,7 @@ bool ReadTrajectory(const std::string& path,
   data->has_stamps = true;
   ReadExtras extras;
   extras.allow_duplicate_stamps = options.allow_duplicate_stamps;
+  extras.allow_unsorted_stamps = options.allow_unsorted_stamps;
   bool ok = false;
   switch (format) {
     case TrajectoryFormat::kTum:
@@ -695,6 +709,7 @@ bool ReadTrajectory(const std::string& path,
   data->seconds = std::move(extras.seconds);
   data->matrices = std::move(extras.matrices);
   data->duplicate_stamps = extras.duplicate_stamps;
+  data->unsorted_stamps = extras.unsorted_stamps;
   data->warning = std::move(extras.warning);
   return true;
 }

@@ -35,8 +35,9 @@
 // Errors name the place: "PATH:LINE: problem". Stamps must increase strictly
 // (a non-monotonic or duplicate stamp is an error naming both lines; nothing
 // is sorted or dropped silently); g2o ids must be unique. With
-// allow_duplicate_stamps (slam eval, as evo reads such files) equal
-// consecutive stamps are kept and described in TrajectoryData::warning.
+// allow_duplicate_stamps / allow_unsorted_stamps (slam eval, as evo reads
+// such files) equal / decreasing stamps are kept in file order and
+// described in TrajectoryData::warning.
 // Numbers are parsed with std::from_chars (datasets/text_util.h).
 // Writers build the whole file in memory and replace the target atomically
 // (temporary file + rename); TUM stamps are written exactly, with nine
@@ -65,6 +66,7 @@ struct TrajectoryReadOptions {
   TrajectoryFormat format = TrajectoryFormat::kAuto;
   std::string kitti_times_path;         // KITTI only: one stamp (s) per pose.
   bool allow_duplicate_stamps = false;  // Non-decreasing stamps suffice.
+  bool allow_unsorted_stamps = false;   // Decreasing ones too (file order).
 };
 
 struct TrajectoryData {
@@ -79,6 +81,7 @@ struct TrajectoryData {
   // KITTI: the 3x3 blocks as read (poses hold the nearest rotations).
   std::vector<Eigen::Matrix3d> matrices;
   size_t duplicate_stamps = 0;  // With allow_duplicate_stamps.
+  size_t unsorted_stamps = 0;   // With allow_unsorted_stamps.
   std::string warning;          // Non-empty: something to tell the user.
 };
 

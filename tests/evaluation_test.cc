@@ -589,6 +589,41 @@ TEST(AssociationTest, DuplicateStampsPairWithTheFirstOfThem) {
   EXPECT_EQ(a.reused_poses, 1u);
 }
 
+TEST(AssociationTest, UnsortedStampsWithDuplicatesAsEvosArgmin) {
+  // Stamps in random file order, on a 0.05 s grid so that many are exactly
+  // halfway, duplicated, or equally far: every pair must be evo's (the
+  // brute-force argmin in file order), for both sides being the longer one
+  // and with an offset.
+  std::mt19937 rng(3);
+  std::uniform_int_distribution<int> grid(0, 60);
+  for (int trial = 0; trial < 50; ++trial) {
+    Trajectory ref, est;
+    for (int i = 0; i < 40; ++i) {
+      ref.push_back(
+          {1700000000 * kNanosecondsPerSecond + grid(rng) * 50000000ll,
+           Pose3()});
+    }
+    for (int i = 0; i < (trial % 2 ? 25 : 55); ++i) {
+      est.push_back(
+          {1700000000 * kNanosecondsPerSecond + grid(rng) * 25000000ll,
+           Pose3()});
+    }
+    const EvalTrajectory r = ToEvalTrajectory(ref), e = ToEvalTrajectory(est);
+    for (const double offset : {0.0, 0.025, -0.1}) {
+      AssociationOptions o;
+      o.t_max_diff = 0.03;
+      o.t_offset = offset;
+      const Association a = AssociateByTimestamp(r, e, o);
+      const auto evo = EvoAssociate(r.seconds, e.seconds, 0.03, offset);
+      ASSERT_EQ(a.size(), evo.size()) << trial;
+      for (size_t k = 0; k < a.size(); ++k) {
+        EXPECT_EQ(a.ref_indices[k], evo[k].first) << trial << " " << k;
+        EXPECT_EQ(a.est_indices[k], evo[k].second) << trial << " " << k;
+      }
+    }
+  }
+}
+
 TEST(AssociationTest, NonFiniteOffsetIsAnError) {
   // Before: llround(NaN) gave INT64_MIN and its negation overflowed.
   const Trajectory t = Wiggly(10);

@@ -159,10 +159,19 @@ TEST(TumTest, DuplicateStampsAreKeptWithAWarningWhenAllowed) {
   // The seconds are the doubles of the text, as evo parses them.
   ASSERT_EQ(data.seconds.size(), 5u);
   EXPECT_EQ(data.seconds[3], 3.10);
-  // Decreasing stamps stay an error.
+  // Decreasing stamps stay an error unless allowed too.
   WriteText(path, "2.0 0 0 0 0 0 0 1\n1.5 0 0 0 0 0 0 1\n");
   EXPECT_FALSE(ReadTrajectory(path, options, &data, &error));
   EXPECT_NE(error.find("before"), std::string::npos) << error;
+  options.allow_unsorted_stamps = true;
+  ASSERT_TRUE(ReadTrajectory(path, options, &data, &error)) << error;
+  EXPECT_EQ(data.unsorted_stamps, 1u);
+  EXPECT_NE(data.warning.find("1 decreasing stamp (first: " + path +
+                              ":2: timestamp 1.500000000 s is before the one "
+                              "on line 1)"),
+            std::string::npos)
+      << data.warning;
+  EXPECT_EQ(data.poses[1].stamp, 1500000000);  // File order kept.
 }
 
 TEST(TumTest, QuaternionsAreNormalized) {
