@@ -2,8 +2,10 @@
 """Scale benchmark of `slam eval`: writes a synthetic reference and estimate
 of N poses (TUM and KITTI text, 100 Hz, stamps with 6 decimals as TUM files
 have them), runs `slam eval` on them (median of --repeat runs) and prints one
-table: poses, format, time reading the two files and time evaluating (APE,
-RPE 1 frame, SE(3) Umeyama), from the JSON report's timing.
+table: poses, format, wall time reading the two files and evaluating (APE,
+RPE 1 frame, SE(3) Umeyama), from the JSON report's timing, and the CPU time
+(user + system) of the whole process, which depends less on the load of a
+shared machine.
 
 Usage: scripts/benchmark_eval_scale.py [--poses 1000000] [--repeat 3]
        [--slam build/apps/slam] [--baseline OTHER_SLAM_BINARY]
@@ -15,6 +17,7 @@ import argparse
 import json
 import math
 import os
+import resource
 import statistics
 import subprocess
 import sys
@@ -51,12 +54,16 @@ def write_files(directory, n):
 
 def run(slam, ref, est, fmt, workdir, repeat):
     report = os.path.join(workdir, "report.json")
-    reads, evals = [], []
+    reads, evals, cpus = [], [], []
     for _ in range(repeat):
+        before = resource.getrusage(resource.RUSAGE_CHILDREN)
         cmd = [slam, "eval", "--ref", ref, "--est", est, "--format", fmt,
                "--report", report]
         result = subprocess.run(cmd, stdout=subprocess.PIPE,
                                 stderr=subprocess.STDOUT, text=True)
+        after = resource.getrusage(resource.RUSAGE_CHILDREN)
+        cpus.append(after.ru_utime - before.ru_utime + after.ru_stime -
+                    before.ru_stime)
         if result.returncode != 0:
             raise RuntimeError("%s failed: %s" % (" ".join(cmd),
                                                   result.stdout[-500:]))
@@ -64,7 +71,8 @@ def run(slam, ref, est, fmt, workdir, repeat):
             timing = json.load(f)["timing"]
         reads.append(timing["read_ms"] / 1e3)
         evals.append(timing["evaluate_ms"] / 1e3)
-    return statistics.median(reads), statistics.median(evals)
+    return (statistics.median(reads), statistics.median(evals),
+            statistics.median(cpus))
 
 
 def main():
@@ -82,20 +90,23 @@ def main():
         for fmt in ("tum", "kitti"):
             ref, est = paths["ref." + fmt], paths["est." + fmt]
             sys.stderr.write("slam eval, %s...\n" % fmt)
-            read_s, eval_s = run(slam, ref, est, fmt, workdir, args.repeat)
+            read_s, eval_s, cpu_s = run(slam, ref, est, fmt, workdir,
+                                        args.repeat)
             row = {"poses": args.poses, "format": fmt, "read_s": read_s,
-                   "eval_s": eval_s}
+                   "eval_s": eval_s, "cpu_s": cpu_s}
             if args.baseline:
-                b_read, b_eval = run(args.baseline, ref, est, fmt, workdir,
-                                     args.repeat)
+                b_read, b_eval, b_cpu = run(args.baseline, ref, est, fmt,
+                                            workdir, args.repeat)
                 row.update(base_read_s=b_read, base_eval_s=b_eval,
-                           speedup=b_read / read_s)
+                           base_cpu_s=b_cpu, speedup=b_read / read_s)
             rows.append(row)
     columns = [("poses", "poses"), ("format", "format"),
-               ("read_s", "read [s]"), ("eval_s", "evaluate [s]")]
+               ("read_s", "read [s]"), ("eval_s", "evaluate [s]"),
+               ("cpu_s", "process CPU [s]")]
     if args.baseline:
         columns += [("base_read_s", "baseline read [s]"),
                     ("base_eval_s", "baseline evaluate [s]"),
+                    ("base_cpu_s", "baseline CPU [s]"),
                     ("speedup", "read speed-up")]
     for row in rows:  # Seconds to the millisecond, the ratio to 0.1.
         for key in list(row):
