@@ -7,6 +7,8 @@
 //   slam inertial -i IN -o DIR [flags]           IMU window / batch
 //   slam eval --ref GT --est EST [flags]         APE / RPE / KITTI metric
 //   slam run --config configs/kitti_stereo.yaml  stereo visual odometry
+//   slam vocabulary --images DIR -o VOC          bag-of-words vocabulary
+//   slam loops --images DIR --gt GT.bmp          visual loop detection
 //
 // Two binaries are built from this file. `slam-visual` (SLAM_VISUAL_COMMANDS)
 // has every command, including those that read images (run, which also runs
@@ -65,8 +67,12 @@ struct Command {
 // only serve the usage text.
 #ifdef SLAM_VISUAL_COMMANDS
 constexpr auto kRun = &slam::RunRunOrStereoCommand;
+constexpr auto kVocabulary = &slam::RunVocabularyCommand;
+constexpr auto kLoops = &slam::RunLoopsCommand;
 #else
 constexpr auto kRun = &slam::RunForwardedCommand;
+constexpr auto kVocabulary = &slam::RunForwardedCommand;
+constexpr auto kLoops = &slam::RunForwardedCommand;
 #endif
 
 const std::map<std::string, Command>& Commands() {
@@ -91,7 +97,8 @@ const std::map<std::string, Command>& Commands() {
         "2D laser SLAM on a CARMEN log or stereo visual odometry on a KITTI "
         "folder: slam run --config configs/aces.yaml|kitti_stereo.yaml",
         {"run_command.cc", "stereo_run_command.cc"},
-        {"config", "dump_config"}}},
+        // gt and report: the stereo pipeline's.
+        {"config", "dump_config", "gt", "report"}}},
       {"inertial",
        {slam::RunInertialCommand,
         "IMU + position fixes: slam inertial -i EUROC_DIR|GTSAM.csv -o DIR",
@@ -102,6 +109,19 @@ const std::map<std::string, Command>& Commands() {
         "write a synthetic dataset with ground truth: slam simulate -o DIR",
         {"simulate_command.cc"},
         {"o", "config", "dump_config"}}},
+      {"vocabulary",
+       {kVocabulary,
+        "train a bag-of-words vocabulary: slam vocabulary --images DIR "
+        "[DIR...] -o VOC [--k 10 --levels 5]",
+        {"vocabulary_command.cc"},
+        {"o"}}},
+      {"loops",
+       {kLoops,
+        "visual loop detection scored against a loop matrix: slam loops "
+        "--images DIR --gt GT.bmp [--plot DIR] [--report FILE.json]",
+        {"loops_command.cc"},
+        {"images", "voc", "orb_features", "config", "dump_config", "gt", "plot",
+         "report"}}},
   };
   return *commands;
 }

@@ -36,7 +36,8 @@ bool LoadOptimizeConfig(const std::string& path, OptimizeConfig* config,
                        "gradient_tolerance", "parameter_tolerance",
                        "initial_trust_region_radius", "linear_solver",
                        "ordering", "sparse_library", "num_threads", "verbose",
-                       "repair_information", "robust", "nonmonotonic_steps"},
+                       "repair_information", "robust", "nonmonotonic_steps",
+                       "landmark_stages", "gauss_newton_probe_iterations"},
                       path, error)) {
     return false;
   }
@@ -61,7 +62,11 @@ bool LoadOptimizeConfig(const std::string& path, OptimizeConfig* config,
       !ReadOptional(node, "num_threads", path, &o.num_threads, error) ||
       !ReadOptional(node, "verbose", path, &o.verbose, error) ||
       !ReadOptional(node, "repair_information", path,
-                    &config->repair_information, error)) {
+                    &config->repair_information, error) ||
+      !ReadOptional(node, "landmark_stages", path, &config->landmark_stages,
+                    error) ||
+      !ReadOptional(node, "gauss_newton_probe_iterations", path,
+                    &o.gauss_newton_probe_iterations, error)) {
     return false;
   }
   if (!ParseSolverKind(solver, &o.solver)) {
@@ -101,6 +106,14 @@ bool ValidateOptimizeConfig(const OptimizeConfig& config, std::string* error) {
   const OptimizerOptions& o = config.optimizer;
   if (o.max_iterations < 0) {
     *error = "max_iterations must be >= 0";
+    return false;
+  }
+  if (o.gauss_newton_probe_iterations < 0) {
+    *error = "gauss_newton_probe_iterations must be >= 0";
+    return false;
+  }
+  if (config.landmark_stages < 1) {
+    *error = "landmark_stages must be >= 1";
     return false;
   }
   if (o.num_threads < 1) {
@@ -158,6 +171,8 @@ std::string OptimizeConfigToYaml(const OptimizeConfig& config) {
       << "\n"
       << "  nonmonotonic_steps: " << (o.nonmonotonic_steps ? "true" : "false")
       << "\n"
+      << "  gauss_newton_probe_iterations: " << o.gauss_newton_probe_iterations
+      << "\n"
       << "  linear_solver: " << o.linear_solver << "\n"
       << "  ordering: " << o.ordering << "\n"
       << "  sparse_library: " << o.sparse_library << "\n"
@@ -165,6 +180,7 @@ std::string OptimizeConfigToYaml(const OptimizeConfig& config) {
       << "  verbose: " << (o.verbose ? "true" : "false") << "\n"
       << "  repair_information: "
       << (config.repair_information ? "true" : "false") << "\n"
+      << "  landmark_stages: " << config.landmark_stages << "\n"
       << "  robust:\n"
       << "    odometry: " << config.robust_odometry.ToString() << "\n"
       << "    loop_closure: " << config.robust_loop_closure.ToString() << "\n"

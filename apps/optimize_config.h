@@ -10,6 +10,8 @@
 //     parameter_tolerance: 1e-10
 //     initial_trust_region_radius: 1e12
 //     nonmonotonic_steps: false
+//     gauss_newton_probe_iterations: 10  # after LM rejects its first 4
+//                           # steps on a pose graph (core/optimizer.h)
 //     linear_solver: auto   # auto | sparse_normal_cholesky | sparse_schur |
 //                           # dense_schur | iterative_schur | dense_qr | ...
 //                           # (auto: sparse_schur with the landmarks
@@ -19,6 +21,8 @@
 //     num_threads: 1        # Ceres threads (1 measured fastest on 2 cores)
 //     verbose: true         # one line per iteration
 //     repair_information: false
+//     landmark_stages: 4    # landmark SLAM from dead reckoning: solve
+//                           # growing halves of the trajectory first
 //     robust:               # kernel per factor kind: KIND[:WIDTH]
 //       odometry: none      # between factors of consecutive ids
 //       loop_closure: none  # all other between factors
@@ -44,6 +48,12 @@ struct OptimizeConfig {
   std::string init = "auto";
   OptimizerOptions optimizer;
   bool repair_information = false;
+  // Landmark SLAM from dead reckoning (init auto chose the spanning tree of
+  // an odometry tree, landmarks from their observations): solve the first
+  // 1/2^(n-1), ..., 1/2 of the poses before the whole graph, re-placing the
+  // later poses and landmarks after each (see OptimizeInStages in
+  // optimize_command.cc). 1: one batch solve.
+  int landmark_stages = 4;
   RobustKernelSpec robust_odometry;
   RobustKernelSpec robust_loop_closure;
   RobustKernelSpec robust_prior;

@@ -26,6 +26,7 @@
 #include "apps/commands.h"
 #include "apps/common_flags.h"
 #include "apps/map_png.h"
+#include "apps/progress_bar.h"
 #include "apps/run_config.h"
 #include "datasets/carmen_io.h"
 #include "datasets/g2o_io.h"
@@ -44,54 +45,6 @@ namespace slam {
 namespace {
 
 namespace fs = std::filesystem;
-
-// A progress bar on stderr: one line redrawn when the percentage changes on
-// a terminal; in a log file (stderr not a terminal) one line every 10 %, so
-// that CI logs and redirected output stay readable.
-class ProgressBar {
- public:
-  explicit ProgressBar(const char* label)
-      : label_(label), terminal_(isatty(fileno(stderr)) != 0) {}
-  void Update(double fraction) {
-    int percent = static_cast<int>(fraction * 100.0);
-    if (!terminal_) percent -= percent % 10;
-    if (percent <= last_) return;
-    last_ = percent;
-    const int filled = percent / 4;
-    std::fprintf(stderr, "%s%-12s [%s%s] %3d%%", terminal_ ? "\r" : "", label_,
-                 std::string(filled, '#').c_str(),
-                 std::string(25 - filled, '.').c_str(), percent);
-    if (!terminal_ || percent >= 100) std::fprintf(stderr, "\n");
-    std::fflush(stderr);
-  }
-  void Done() { Update(1.0); }
-
- private:
-  const char* label_;
-  bool terminal_;
-  int last_ = -1;
-};
-
-std::string ResolveDataPath(const std::string& path) {
-  if (path.empty() || fs::path(path).is_absolute()) return path;
-  std::vector<std::string> dirs;
-  if (!FLAGS_datasets.empty()) {
-    dirs.push_back(FLAGS_datasets);
-  } else {
-    if (const char* env = std::getenv("SLAM_DATASETS")) dirs.push_back(env);
-    if (!FLAGS_config.empty()) {
-      dirs.push_back((fs::absolute(FLAGS_config).parent_path().parent_path() /
-                      ".." / "shared" / "datasets")
-                         .string());
-    }
-    dirs.push_back("../shared/datasets");
-  }
-  for (const std::string& dir : dirs) {
-    const fs::path candidate = fs::path(dir) / path;
-    if (fs::exists(candidate)) return candidate.string();
-  }
-  return (fs::path(dirs.front()) / path).string();
-}
 
 double Since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
@@ -130,6 +83,27 @@ bool WriteMap(const RunConfig& config, const LaserSlam& slam,
 
 }  // namespace
 
+std::string ResolveDatasetPath(const std::string& path) {
+  if (path.empty() || fs::path(path).is_absolute()) return path;
+  std::vector<std::string> dirs;
+  if (!FLAGS_datasets.empty()) {
+    dirs.push_back(FLAGS_datasets);
+  } else {
+    if (const char* env = std::getenv("SLAM_DATASETS")) dirs.push_back(env);
+    if (!FLAGS_config.empty()) {
+      dirs.push_back((fs::absolute(FLAGS_config).parent_path().parent_path() /
+                      ".." / "shared" / "datasets")
+                         .string());
+    }
+    dirs.push_back("../shared/datasets");
+  }
+  for (const std::string& dir : dirs) {
+    const fs::path candidate = fs::path(dir) / path;
+    if (fs::exists(candidate)) return candidate.string();
+  }
+  return (fs::path(dirs.front()) / path).string();
+}
+
 int RunRunCommand(const std::vector<std::string>& args) {
   if (!args.empty()) {
     std::cerr << "run: unexpected argument '" << args[0] << "'\n";
@@ -146,12 +120,17 @@ int RunRunCommand(const std::vector<std::string>& args) {
     std::cout << RunConfigToYaml(config);
     return 0;
   }
+  if (config.pipeline != "laser") {
+    std::cerr << FLAGS_config << ": run.pipeline '" << config.pipeline
+              << "' is not the laser pipeline (laser, stereo)\n";
+    return 2;
+  }
   if (config.log.empty()) {
     std::cerr << "run: no log named (run.log in --config)\n";
     return 2;
   }
   const auto start = std::chrono::steady_clock::now();
-  const std::string log_path = ResolveDataPath(config.log);
+  const std::string log_path = ResolveDatasetPath(config.log);
   CarmenLog log;
   {
     ProgressBar bar("reading");
@@ -170,7 +149,8 @@ int RunRunCommand(const std::vector<std::string>& args) {
   }
   std::vector<PoseRelation> relations;
   if (!config.relations.empty() &&
-      !ReadRelations(ResolveDataPath(config.relations), &relations, &error)) {
+      !ReadRelations(ResolveDatasetPath(config.relations), &relations,
+                     &error)) {
     std::cerr << error << "\n";
     return 1;
   }

@@ -3,33 +3,13 @@
 #include <sstream>
 #include <vector>
 
+#include "apps/config_schema.h"
 #include "apps/yaml_config.h"
 
 namespace slam {
 namespace {
 
-// The config as a tree of named fields pointing into the struct, so that
-// loading, the unknown-key check and printing share one description.
-struct Field {
-  enum Kind { kDouble, kInt, kBool, kString, kKernel };
-  const char* key;
-  Kind kind;
-  void* value;
-};
-
-struct Section {
-  const char* name;
-  std::vector<Field> fields;
-  std::vector<Section> children;
-};
-
-Field D(const char* key, double* v) { return {key, Field::kDouble, v}; }
-Field I(const char* key, int* v) { return {key, Field::kInt, v}; }
-Field B(const char* key, bool* v) { return {key, Field::kBool, v}; }
-Field S(const char* key, std::string* v) { return {key, Field::kString, v}; }
-Field K(const char* key, RobustKernelSpec* v) {
-  return {key, Field::kKernel, v};
-}
+using namespace config_schema;  // NOLINT: the schema vocabulary.
 
 Section IcpSection(IcpOptions* o) {
   return {
@@ -57,8 +37,8 @@ Section Schema(RunConfig* c) {
   LaserSlamConfig& s = c->slam;
   return {
       "run",
-      {S("log", &c->log), S("relations", &c->relations),
-       S("output_dir", &c->output_dir)},
+      {S("pipeline", &c->pipeline), S("log", &c->log),
+       S("relations", &c->relations), S("output_dir", &c->output_dir)},
       {{"lasers",
         {B("front", &c->lasers.front_laser), B("rear", &c->lasers.rear_laser),
          B("robot", &c->lasers.robot_laser)},
@@ -133,99 +113,6 @@ Section Schema(RunConfig* c) {
          D("max_usable_range", &c->map.max_usable_range),
          B("clear_max_range", &c->map.clear_max_range)},
         {}}}};
-}
-
-bool ReadField(const YAML::Node& node, const Field& f, const std::string& where,
-               std::string* error) {
-  switch (f.kind) {
-    case Field::kDouble:
-      return ReadOptional(node, f.key, where, static_cast<double*>(f.value),
-                          error);
-    case Field::kInt:
-      return ReadOptional(node, f.key, where, static_cast<int*>(f.value),
-                          error);
-    case Field::kBool:
-      return ReadOptional(node, f.key, where, static_cast<bool*>(f.value),
-                          error);
-    case Field::kString:
-      return ReadOptional(node, f.key, where,
-                          static_cast<std::string*>(f.value), error);
-    case Field::kKernel: {
-      auto* spec = static_cast<RobustKernelSpec*>(f.value);
-      std::string text = spec->ToString();
-      if (!ReadOptional(node, f.key, where, &text, error)) return false;
-      std::string parse_error;
-      if (!ParseRobustKernel(text, spec, &parse_error)) {
-        *error = where + ": " + f.key + ": " + parse_error;
-        return false;
-      }
-      return true;
-    }
-  }
-  return true;
-}
-
-bool LoadSection(const YAML::Node& node, const Section& section,
-                 const std::string& where, std::string* error) {
-  if (!node.IsMap()) {
-    *error = where + ":" + std::to_string(node.Mark().line + 1) + ": '" +
-             section.name + "' must be a mapping of settings";
-    return false;
-  }
-  for (const auto& entry : node) {
-    const std::string key = entry.first.as<std::string>();
-    bool known = false;
-    std::string list;
-    for (const Field& f : section.fields) {
-      known |= key == f.key;
-      list += (list.empty() ? "" : ", ") + std::string(f.key);
-    }
-    for (const Section& c : section.children) {
-      known |= key == c.name;
-      list += (list.empty() ? "" : ", ") + std::string(c.name);
-    }
-    if (!known) {
-      *error = where + ":" + std::to_string(entry.first.Mark().line + 1) +
-               ": unknown key '" + key + "' in " + section.name +
-               " (known: " + list + ")";
-      return false;
-    }
-  }
-  for (const Field& f : section.fields) {
-    if (!ReadField(node, f, where, error)) return false;
-  }
-  for (const Section& c : section.children) {
-    const YAML::Node child = node[c.name];
-    if (child && !LoadSection(child, c, where, error)) return false;
-  }
-  return true;
-}
-
-void PrintSection(const Section& section, int indent, std::ostream* out) {
-  const std::string pad(indent, ' ');
-  *out << pad << section.name << ":\n";
-  for (const Field& f : section.fields) {
-    *out << pad << "  " << f.key << ": ";
-    switch (f.kind) {
-      case Field::kDouble:
-        *out << *static_cast<double*>(f.value);
-        break;
-      case Field::kInt:
-        *out << *static_cast<int*>(f.value);
-        break;
-      case Field::kBool:
-        *out << (*static_cast<bool*>(f.value) ? "true" : "false");
-        break;
-      case Field::kString:
-        *out << "\"" << *static_cast<std::string*>(f.value) << "\"";
-        break;
-      case Field::kKernel:
-        *out << static_cast<RobustKernelSpec*>(f.value)->ToString();
-        break;
-    }
-    *out << "\n";
-  }
-  for (const Section& c : section.children) PrintSection(c, indent + 2, out);
 }
 
 }  // namespace

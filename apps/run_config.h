@@ -38,6 +38,9 @@
 namespace slam {
 
 struct RunConfig {
+  // Which pipeline `slam run` runs: "laser" (this config) or "stereo"
+  // (apps/visual/stereo_run_config.h, read by slam-visual).
+  std::string pipeline = "laser";
   std::string log;
   std::string relations;
   std::string output_dir = "out";
@@ -51,6 +54,12 @@ bool LoadRunConfig(const std::string& path, RunConfig* config,
                    std::string* error);
 bool ValidateRunConfig(const RunConfig& config, std::string* error);
 std::string RunConfigToYaml(const RunConfig& config);
+
+// A data path of a `slam run` config: absolute paths as they are; relative
+// ones under --datasets, else $SLAM_DATASETS, else ../shared/datasets beside
+// the repository holding the config file, else ../shared/datasets from the
+// working directory (the first where it exists).
+std::string ResolveDatasetPath(const std::string& path);
 
 }  // namespace slam
 

@@ -1,5 +1,7 @@
 #include "core/graph.h"
 
+#include <set>
+
 #include <limits>
 #include <utility>
 
@@ -82,6 +84,20 @@ bool Graph::RemoveNode(const Key& key) {
     it = touches ? factors_.erase(it) : std::next(it);
   }
   return true;
+}
+
+size_t Graph::RemoveNodes(const std::vector<Key>& keys) {
+  std::set<Key> removed;
+  for (const Key& key : keys) {
+    if (nodes_.erase(key) > 0) removed.insert(key);
+  }
+  if (removed.empty()) return 0;
+  for (auto it = factors_.begin(); it != factors_.end();) {
+    bool touches = false;
+    for (const Key& k : it->second.keys) touches = touches || removed.count(k);
+    it = touches ? factors_.erase(it) : std::next(it);
+  }
+  return removed.size();
 }
 
 void Graph::SetFixed(const Key& key, bool fixed) {

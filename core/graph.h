@@ -91,8 +91,12 @@ class Graph {
   bool HasNode(const Key& key) const { return nodes_.count(key) > 0; }
   Node* FindNode(const Key& key);
   const Node* FindNode(const Key& key) const;
-  // Removes the node and every factor touching it; false if absent.
+  // Removes the node and every factor touching it; false if absent. Scans
+  // every factor: to remove many nodes, use RemoveNodes.
   bool RemoveNode(const Key& key);
+  // Removes the nodes present among `keys` and every factor touching them,
+  // in one pass over the factors; returns how many nodes were removed.
+  size_t RemoveNodes(const std::vector<Key>& keys);
   void SetFixed(const Key& key, bool fixed);
 
   // Adds a factor. Every key must name an existing node and the cost function

@@ -339,7 +339,9 @@ bool ParseLine(const std::vector<std::string_view>& tokens, int64_t line,
   return true;
 }
 
-enum class Format { kUnknown, kG2o, kToro, kIsam };
+// kEdges: EDGE2/EDGE3, which TORO and iSAM both use (with information and
+// square-root information respectively).
+enum class Format { kUnknown, kG2o, kToro, kIsam, kEdges };
 
 Format FormatOfTag(std::string_view tag) {
   if (tag == "VERTEX_SE2" || tag == "EDGE_SE2" || tag == "VERTEX_SE3:QUAT" ||
@@ -351,11 +353,15 @@ Format FormatOfTag(std::string_view tag) {
       tag == "PARAMS_PINHOLE" || tag == "EDGE_SE3_PROJECT") {
     return Format::kG2o;
   }
-  if (tag == "VERTEX2" || tag == "EDGE2" || tag == "VERTEX3" ||
-      tag == "EDGE3" || tag == "VERTEX" || tag == "EDGE" || tag == "BR") {
+  if (tag == "EDGE2" || tag == "EDGE3") return Format::kEdges;
+  if (tag == "VERTEX2" || tag == "VERTEX3" || tag == "VERTEX" ||
+      tag == "EDGE" || tag == "BR" || tag == "EQUIV") {
     return Format::kToro;
   }
-  if (tag == "ODOMETRY" || tag == "LANDMARK") return Format::kIsam;
+  if (tag == "ODOMETRY" || tag == "LANDMARK" || tag == "POINT3" ||
+      tag == "Constraint2" || tag == "POSE3D_INIT") {
+    return Format::kIsam;
+  }
   return Format::kUnknown;
 }
 
@@ -594,19 +600,40 @@ bool ReadPoseGraph(const std::string& path, const GraphReadOptions& options,
                            error != nullptr ? error : &local_error)) {
     return false;
   }
+  // The first tag that only one format uses decides; EDGE2/EDGE3 alone
+  // (iSAM's sphere/torus files; TORO files have VERTEX lines) go by the
+  // extension: .graph is TORO, anything else iSAM, with a warning.
   Format format = Format::kUnknown;
+  bool edges_seen = false;
   text::LineTokenizer lines(contents);
-  while (format == Format::kUnknown && lines.Next()) {
+  while ((format == Format::kUnknown || format == Format::kEdges) &&
+         lines.Next()) {
     format = FormatOfTag(lines.tokens()[0]);
+    edges_seen = edges_seen || format == Format::kEdges;
   }
-  if (format == Format::kUnknown) {
-    format = LowerExtension(path) == ".graph" ? Format::kToro : Format::kG2o;
+  const bool toro_extension = LowerExtension(path) == ".graph";
+  bool guessed_isam = false;
+  if (format == Format::kUnknown || format == Format::kEdges) {
+    guessed_isam = edges_seen && !toro_extension;
+    format = toro_extension ? Format::kToro
+             : edges_seen   ? Format::kIsam
+                            : Format::kG2o;
   }
   if (format == Format::kToro) {
     return ReadToroFromText(path, contents, options, graph, report, error);
   }
   if (format == Format::kIsam) {
-    return ReadIsamFromText(path, contents, options, graph, report, error);
+    if (!ReadIsamFromText(path, contents, options, graph, report, error)) {
+      return false;
+    }
+    if (guessed_isam && report != nullptr) {
+      report->warnings.push_back(
+          path +
+          ": EDGE2/EDGE3 lines without VERTEX lines read as iSAM's format "
+          "(square-root information); name the file .graph to read it as "
+          "TORO (information)");
+    }
+    return true;
   }
   return ReadG2oFromText(path, contents, options, graph, report, error);
 }

@@ -145,11 +145,15 @@ bool ReadG2oFromText(const std::string& name, std::string_view text,
 // file is left. Numbers are printed with %.17g.
 bool WriteG2o(const std::string& path, const Graph& graph, std::string* error);
 
-// Picks the reader by content: the first recognised tag (VERTEX_SE2,
-// EDGE_SE2, VERTEX_SE3:QUAT, EDGE_SE3:QUAT, g2o prior edges, the g2o
-// landmark tags, PARAMS_STEREO, PARAMS_PINHOLE -> g2o; VERTEX2, EDGE2, VERTEX3,
-// EDGE3, BR -> TORO; ODOMETRY, LANDMARK -> iSAM, datasets/isam_io.h), falling
-// back to the extension (.graph -> TORO, anything else -> g2o).
+// Picks the reader by content: the first tag that one format alone uses
+// (VERTEX_SE2, EDGE_SE2, VERTEX_SE3:QUAT, EDGE_SE3:QUAT, g2o prior edges, the
+// g2o landmark tags, PARAMS_STEREO, PARAMS_PINHOLE -> g2o; VERTEX2, VERTEX3,
+// VERTEX, EDGE, BR, EQUIV -> TORO; ODOMETRY, LANDMARK, POINT3, Constraint2,
+// POSE3D_INIT -> iSAM, datasets/isam_io.h). EDGE2/EDGE3 are both TORO's
+// (information) and iSAM's (square-root information): a file of such edges
+// and no deciding tag (iSAM's sphere400/sphere2500/torus10000) is TORO when
+// named .graph, else iSAM, with a warning in report->warnings. A file with
+// no known tag is TORO when named .graph, else g2o.
 bool ReadPoseGraph(const std::string& path, const GraphReadOptions& options,
                    Graph* graph, GraphReadReport* report, std::string* error);
 

@@ -421,7 +421,11 @@ bool PoseGraphBuilder::CheckInformation(
     std::string* error) {
   if (IsPositiveDefinite(*information)) return true;
   if (!options_.repair_information) {
-    *error = LineError(line, "information matrix is not positive definite");
+    *error = LineError(line,
+                       "information matrix is not positive definite (the "
+                       "repair_information option, slam optimize "
+                       "--repair_information, replaces such matrices by the "
+                       "nearest positive definite ones)");
     return false;
   }
   const Eigen::MatrixXd repaired = NearestPositiveDefinite(*information);

@@ -26,23 +26,6 @@ constexpr double kRpyPerQvec = 2.0;
 
 double RotationScale(int index) { return index < 3 ? 1.0 : kRpyPerQvec; }
 
-// R = Rz(yaw) Ry(pitch) Rx(roll), as HOG-Man's RotationMatrix3.
-Eigen::Quaterniond QuaternionFromRpy(double roll, double pitch, double yaw) {
-  return Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
-         Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
-         Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX());
-}
-
-// Inverse of QuaternionFromRpy, as HOG-Man's RotationMatrix3::angles().
-Eigen::Vector3d RpyFromQuaternion(const Eigen::Quaterniond& q) {
-  const Eigen::Matrix3d r = q.normalized().toRotationMatrix();
-  // "+ 0.0" turns -0 into 0, to keep "-0" out of the file.
-  return Eigen::Vector3d(
-      std::atan2(r(2, 1), r(2, 2)) + 0.0,
-      std::atan2(-r(2, 0), std::hypot(r(2, 1), r(2, 2))) + 0.0,
-      std::atan2(r(1, 0), r(0, 0)) + 0.0);
-}
-
 Eigen::Vector4d Coefficients(const Eigen::Quaterniond& q) {
   return Eigen::Vector4d(q.x(), q.y(), q.z(), q.w());
 }
@@ -146,6 +129,21 @@ void AppendValue(double value, std::string* out) {
 }
 
 }  // namespace
+
+Eigen::Quaterniond QuaternionFromRpy(double roll, double pitch, double yaw) {
+  return Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
+         Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
+         Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX());
+}
+
+Eigen::Vector3d RpyFromQuaternion(const Eigen::Quaterniond& q) {
+  const Eigen::Matrix3d r = q.normalized().toRotationMatrix();
+  // "+ 0.0" turns -0 into 0, to keep "-0" out of the file.
+  return Eigen::Vector3d(
+      std::atan2(r(2, 1), r(2, 2)) + 0.0,
+      std::atan2(-r(2, 0), std::hypot(r(2, 1), r(2, 2))) + 0.0,
+      std::atan2(r(1, 0), r(0, 0)) + 0.0);
+}
 
 bool ReadToroFromText(const std::string& name, std::string_view text,
                       const GraphReadOptions& options, Graph* graph,

@@ -49,6 +49,8 @@
 #ifndef SLAM_DATASETS_TORO_IO_H_
 #define SLAM_DATASETS_TORO_IO_H_
 
+#include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <string>
 #include <string_view>
 
@@ -70,6 +72,12 @@ bool ReadToroFromText(const std::string& name, std::string_view text,
 // Writes the SE2/SE3 pose nodes and between factors (VERTEX2/EDGE2 or
 // VERTEX3/EDGE3) and FIX lines. Atomic like WriteG2o; numbers with %.17g.
 bool WriteToro(const std::string& path, const Graph& graph, std::string* error);
+
+// Euler angles as TORO, HOG-Man and iSAM use them: R = Rz(yaw) Ry(pitch)
+// Rx(roll) (HOG-Man's RotationMatrix3, iSAM's Rot3d), and the inverse
+// (pitch in [-pi/2, pi/2]).
+Eigen::Quaterniond QuaternionFromRpy(double roll, double pitch, double yaw);
+Eigen::Vector3d RpyFromQuaternion(const Eigen::Quaterniond& q);
 
 }  // namespace slam
 

@@ -53,7 +53,9 @@ TEST(CommandHelpTest, EveryCommandHasItsOwnHelp) {
                         Case{"inertial", "--window_size", "--align"},
                         Case{"simulate", "--num_poses", "--solver"},
                         Case{"run", "--output_dir", "--est"},
-                        Case{"info", "--repair_information", "--config"}}) {
+                        Case{"info", "--repair_information", "--config"},
+                        Case{"vocabulary", "--levels", "--rpe_delta"},
+                        Case{"loops", "--voc", "--levels"}}) {
     ASSERT_EQ(testing::RunSlam(std::string(c.command) + " --help", log), 0)
         << c.command;
     const std::string out = ReadText(log);
@@ -73,6 +75,12 @@ TEST(CommandHelpTest, AFlagOfAnotherCommandIsRefused) {
   EXPECT_EQ(testing::RunSlam("eval --solver gn --ref a --est b", log), 2);
   EXPECT_NE(
       ReadText(log).find("slam eval: --solver is not a flag of this command"),
+      std::string::npos)
+      << ReadText(log);
+  // Forwarded image commands check their flags the same way.
+  EXPECT_EQ(testing::RunSlam("loops --levels 3", log), 2);
+  EXPECT_NE(
+      ReadText(log).find("slam loops: --levels is not a flag of this command"),
       std::string::npos)
       << ReadText(log);
   // Even with its default value.

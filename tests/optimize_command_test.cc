@@ -494,7 +494,10 @@ TEST(OptimizeCommandTest, MalformedInputFailsWithFileLineAndProblem) {
       {"non_pd_information",
        std::string(kGoodHead) + "EDGE_SE2 0 1 1 0 0 1 0 0 1 0 1\n"
                                 "EDGE_SE2 1 2 1 0 0 1 0 0 -1 0 1\n",
-       ":6: information matrix is not positive definite"},
+       // The refusal names the option that repairs it.
+       ":6: information matrix is not positive definite (the "
+       "repair_information option, slam optimize --repair_information, "
+       "replaces such matrices by the nearest positive definite ones)"},
       {"non_finite",
        std::string(kGoodHead) + "EDGE_SE2 0 1 nan 0 0 1 0 0 1 0 1\n",
        ":5: non-finite number 'nan'"},

@@ -12,6 +12,14 @@ namespace slam {
 // default, runs RunRunCommand; stereo runs the stereo visual odometry).
 int RunRunOrStereoCommand(const std::vector<std::string>& args);
 
+// slam vocabulary: trains a bag-of-words vocabulary of ORB descriptors on
+// image folders (or converts a DBoW2 YAML one) into the binary format.
+int RunVocabularyCommand(const std::vector<std::string>& args);
+
+// slam loops: visual loop detection over an image sequence, scored against a
+// ground-truth loop matrix.
+int RunLoopsCommand(const std::vector<std::string>& args);
+
 }  // namespace slam
 
 #endif  // SLAM_APPS_VISUAL_VISUAL_COMMANDS_H_

@@ -1,0 +1,282 @@
+#include "datasets/kitti_sequence_io.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+
+#include "datasets/text_util.h"
+
+namespace slam {
+namespace {
+
+namespace fs = std::filesystem;
+
+bool IsImageExtension(std::string ext) {
+  for (char& c : ext) c = static_cast<char>(std::tolower(c));
+  static const char* const kExtensions[] = {
+      ".png", ".webp", ".jpg", ".jpeg", ".bmp", ".pgm", ".ppm", ".pnm",
+      ".tif", ".tiff", ".jp2", ".exr",  ".hdr", ".sr",  ".ras"};
+  for (const char* e : kExtensions) {
+    if (ext == e) return true;
+  }
+  return false;
+}
+
+// Sort key: the first run of digits as a number (with its length to keep
+// huge numbers ordered), then the whole name.
+struct NameKey {
+  bool has_number = false;
+  std::string digits;  // Without leading zeros.
+  std::string name;
+  bool operator<(const NameKey& o) const {
+    if (has_number != o.has_number) return has_number;
+    if (digits.size() != o.digits.size())
+      return digits.size() < o.digits.size();
+    if (digits != o.digits) return digits < o.digits;
+    return name < o.name;
+  }
+};
+
+NameKey KeyOf(const std::string& name) {
+  NameKey key;
+  key.name = name;
+  const size_t start = name.find_first_of("0123456789");
+  if (start == std::string::npos) return key;
+  size_t end = start;
+  while (end < name.size() &&
+         std::isdigit(static_cast<unsigned char>(name[end])))
+    ++end;
+  key.has_number = true;
+  key.digits = name.substr(start, end - start);
+  key.digits.erase(
+      0, std::min(key.digits.find_first_not_of('0'), key.digits.size() - 1));
+  return key;
+}
+
+}  // namespace
+
+bool ListImageFiles(const std::string& dir, std::vector<std::string>* paths,
+                    std::string* error) {
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) {
+    *error = dir + ": not a directory";
+    return false;
+  }
+  std::vector<std::pair<NameKey, std::string>> found;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end;
+       it.increment(ec)) {
+    if (!it->is_regular_file(ec)) continue;
+    const fs::path& p = it->path();
+    if (!IsImageExtension(p.extension().string())) continue;
+    found.emplace_back(KeyOf(p.filename().string()), p.string());
+  }
+  if (ec) {
+    *error = dir + ": cannot list: " + ec.message();
+    return false;
+  }
+  std::sort(found.begin(), found.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
+  paths->clear();
+  for (auto& f : found) paths->push_back(std::move(f.second));
+  return true;
+}
+
+bool ReadKittiStereoCalibration(const std::string& path,
+                                StereoCalibration* calibration,
+                                std::string* error) {
+  std::string text;
+  if (!text::ReadWholeFile(path, &text, error)) return false;
+  text::LineTokenizer lines(text);
+  double p[2][12];
+  bool have[2] = {false, false};
+  int64_t line_of[2] = {0, 0};
+  int unlabelled = 0;
+  auto fail = [&](int64_t line, const std::string& problem) {
+    *error = path + ":" + std::to_string(line) + ": " + problem;
+    return false;
+  };
+  while (lines.Next()) {
+    const auto& tokens = lines.tokens();
+    int which = -1;
+    size_t first = 0;
+    const std::string_view head = tokens[0];
+    if (!head.empty() && head.back() == ':') {
+      if (head == "P0:") which = 0;
+      if (head == "P1:") which = 1;
+      if (which < 0) continue;  // P2, P3, Tr, ...: not needed.
+      first = 1;
+    } else {
+      if (unlabelled >= 2) continue;  // Further unlabelled lines: P2, P3.
+      which = unlabelled++;
+    }
+    if (tokens.size() != first + 12) {
+      return fail(lines.line(), "a projection matrix needs 12 numbers, found " +
+                                    std::to_string(tokens.size() - first));
+    }
+    for (int k = 0; k < 12; ++k) {
+      if (!text::ParseDouble(tokens[first + k], &p[which][k])) {
+        return fail(lines.line(), "number " + std::to_string(k + 1) +
+                                      " is not a finite number: '" +
+                                      text::Printable(tokens[first + k]) + "'");
+      }
+    }
+    if (have[which]) {
+      return fail(lines.line(), std::string("P") + char('0' + which) +
+                                    " given twice (also on line " +
+                                    std::to_string(line_of[which]) + ")");
+    }
+    have[which] = true;
+    line_of[which] = lines.line();
+  }
+  if (!have[0] || !have[1]) {
+    *error = path +
+             ": needs the projection matrices P0 and P1 (labelled "
+             "'P0:'/'P1:' or the first two unlabelled lines), found " +
+             std::string(have[0]   ? "only P0"
+                         : have[1] ? "only P1"
+                                   : "neither");
+    return false;
+  }
+  // Row-major 3x4: index r * 4 + c.
+  const double fx = p[0][0], fy = p[0][5], cx = p[0][2], cy = p[0][6];
+  const double tol = 1e-6 * std::max(1.0, std::abs(fx));
+  if (!(fx > 0) || !(fy > 0)) {
+    return fail(line_of[0], "P0 needs positive focal lengths P[0][0], P[1][1]");
+  }
+  for (int w = 0; w < 2; ++w) {
+    const double* m = p[w];
+    const bool shape = std::abs(m[1]) <= tol && std::abs(m[4]) <= tol &&
+                       std::abs(m[8]) <= tol && std::abs(m[9]) <= tol &&
+                       std::abs(m[10] - 1.0) <= 1e-9 && std::abs(m[11]) <= tol;
+    if (!shape) {
+      return fail(line_of[w],
+                  "not the projection matrix of a rectified camera: expected "
+                  "[fx 0 cx tx; 0 fy cy 0; 0 0 1 0]");
+    }
+    if (std::abs(m[0] - fx) > tol || std::abs(m[5] - fy) > tol ||
+        std::abs(m[2] - cx) > tol || std::abs(m[6] - cy) > tol) {
+      return fail(line_of[1],
+                  "P1's intrinsics differ from P0's: the pair is not "
+                  "rectified");
+    }
+    if (std::abs(m[7]) > tol) {
+      return fail(line_of[w],
+                  "vertical offset P[1][3] must be 0 in a "
+                  "rectified pair");
+    }
+  }
+  if (std::abs(p[0][3]) > tol) {
+    return fail(line_of[0], "P0 must have no translation (P0[0][3] = 0)");
+  }
+  const double baseline = -p[1][3] / p[1][0];
+  if (!(baseline > 0) || !std::isfinite(baseline)) {
+    return fail(line_of[1],
+                "the baseline -P1[0][3] / P1[0][0] must be positive (right "
+                "camera to the right of the left one)");
+  }
+  calibration->fx = fx;
+  calibration->fy = fy;
+  calibration->cx = cx;
+  calibration->cy = cy;
+  calibration->baseline = baseline;
+  return true;
+}
+
+bool ReadKittiSequence(const std::string& dir,
+                       const KittiSequenceOptions& options,
+                       KittiSequence* sequence, std::string* error) {
+  KittiSequence s;
+  s.dir = dir;
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) {
+    *error = dir +
+             ": not a directory (expected a KITTI sequence folder with "
+             "image_0/, image_1/ and calib.txt)";
+    return false;
+  }
+  const fs::path root(dir);
+  if (!ListImageFiles((root / "image_0").string(), &s.left_images, error) ||
+      !ListImageFiles((root / "image_1").string(), &s.right_images, error)) {
+    return false;
+  }
+  if (s.left_images.empty()) {
+    *error = (root / "image_0").string() + ": no image files";
+    return false;
+  }
+  if (s.left_images.size() != s.right_images.size()) {
+    *error = dir + ": image_0 has " + std::to_string(s.left_images.size()) +
+             " images but image_1 has " + std::to_string(s.right_images.size());
+    return false;
+  }
+  for (size_t k = 0; k < s.left_images.size(); ++k) {
+    const std::string l = fs::path(s.left_images[k]).filename().string();
+    const std::string r = fs::path(s.right_images[k]).filename().string();
+    if (l != r) {
+      *error = dir + ": frame " + std::to_string(k) + " is " +
+               s.left_images[k] + " on the left but " + s.right_images[k] +
+               " on the right (image_0 and image_1 must hold the same names)";
+      return false;
+    }
+  }
+  s.calibration_path = options.calibration_path.empty()
+                           ? (root / "calib.txt").string()
+                           : options.calibration_path;
+  if (!ReadKittiStereoCalibration(s.calibration_path, &s.calibration, error)) {
+    return false;
+  }
+  const std::string times_path = options.times_path.empty()
+                                     ? (root / "times.txt").string()
+                                     : options.times_path;
+  const size_t n = s.left_images.size();
+  if (!options.times_path.empty() || fs::exists(times_path, ec)) {
+    std::string text;
+    if (!text::ReadWholeFile(times_path, &text, error)) return false;
+    text::LineTokenizer lines(text);
+    while (lines.Next()) {
+      const auto& tokens = lines.tokens();
+      double seconds = 0.0;
+      if (tokens.size() != 1 || !text::ParseDouble(tokens[0], &seconds) ||
+          std::abs(seconds) > 1e10) {
+        *error = times_path + ":" + std::to_string(lines.line()) +
+                 ": expected one stamp in seconds (|t| <= 1e10), found '" +
+                 text::Printable(tokens[0]) + "'" +
+                 (tokens.size() != 1 ? " and more" : "");
+        return false;
+      }
+      if (s.stamps.size() == n) {
+        *error = times_path + ":" + std::to_string(lines.line()) +
+                 ": more stamps than the " + std::to_string(n) + " images";
+        return false;
+      }
+      const TimeNs stamp = SecondsToNs(seconds);
+      if (!s.stamps.empty() && stamp <= s.stamps.back()) {
+        *error = times_path + ":" + std::to_string(lines.line()) +
+                 ": stamps must increase strictly";
+        return false;
+      }
+      s.stamps.push_back(stamp);
+    }
+    if (s.stamps.size() != n) {
+      *error = times_path + ": " + std::to_string(s.stamps.size()) +
+               " stamps for " + std::to_string(n) + " images";
+      return false;
+    }
+    s.has_times = true;
+  } else {
+    if (!(options.default_frame_period > 0) ||
+        !(options.default_frame_period < 1e3)) {
+      *error = "default frame period must be in (0, 1000) s";
+      return false;
+    }
+    for (size_t k = 0; k < n; ++k) {
+      s.stamps.push_back(SecondsToNs(k * options.default_frame_period));
+    }
+  }
+  const fs::path gt = root / "poses.txt";
+  if (fs::is_regular_file(gt, ec)) s.ground_truth_path = gt.string();
+  *sequence = std::move(s);
+  return true;
+}
+
+}  // namespace slam

@@ -1,0 +1,655 @@
+#include "frontends/bow/vocabulary.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <random>
+#include <sstream>
+
+#include <opencv2/core/persistence.hpp>
+
+#include "datasets/atomic_file.h"
+#include "datasets/text_util.h"
+
+namespace slam::bow {
+namespace {
+
+constexpr char kMagic[8] = {'S', 'L', 'A', 'M', 'B', 'O', 'W', '1'};
+constexpr size_t kHeaderBytes = 8 + 4 * 4;
+constexpr size_t kNodeBytes = 4 + 8 + kDescriptorBytes;
+constexpr int kMaxK = 256;
+constexpr int kMaxLevels = 16;
+// No vocabulary this project reads or writes has more nodes (DBoW2's
+// largest published ORB vocabulary, k=10 L=6, has about 1.1 million).
+constexpr uint64_t kMaxNodes = uint64_t{1} << 26;
+
+// The most nodes a tree with k branches and L levels can have (saturating).
+uint64_t MaxNodes(int k, int levels) {
+  uint64_t total = 1, level = 1;
+  for (int d = 1; d <= levels; ++d) {
+    level *= static_cast<uint64_t>(k);
+    total += level;
+    if (total > kMaxNodes) return kMaxNodes + 1;
+  }
+  return total;
+}
+
+bool CheckShape(int k, int levels, uint64_t num_nodes, const std::string& where,
+                std::string* error) {
+  if (k < 2 || k > kMaxK) {
+    *error = where + ": branching factor k = " + std::to_string(k) +
+             " outside [2, " + std::to_string(kMaxK) + "]";
+    return false;
+  }
+  if (levels < 1 || levels > kMaxLevels) {
+    *error = where + ": levels L = " + std::to_string(levels) +
+             " outside [1, " + std::to_string(kMaxLevels) + "]";
+    return false;
+  }
+  const uint64_t max_nodes = std::min(MaxNodes(k, levels), kMaxNodes);
+  if (num_nodes < 2 || num_nodes > max_nodes) {
+    *error = where + ": " + std::to_string(num_nodes) +
+             " nodes, but a tree with k = " + std::to_string(k) +
+             " and L = " + std::to_string(levels) + " has 2 to " +
+             std::to_string(max_nodes);
+    return false;
+  }
+  return true;
+}
+
+// The majority-vote centre of a set of binary descriptors: each bit is set
+// when more than half of the descriptors have it set.
+Descriptor MajorityCentre(const std::vector<const uint8_t*>& members) {
+  std::array<int, kDescriptorBytes * 8> ones{};
+  for (const uint8_t* d : members) {
+    for (int byte = 0; byte < kDescriptorBytes; ++byte) {
+      const uint8_t value = d[byte];
+      for (int bit = 0; bit < 8; ++bit)
+        ones[byte * 8 + bit] += (value >> bit) & 1;
+    }
+  }
+  Descriptor centre{};
+  const size_t half = members.size() / 2;
+  for (int byte = 0; byte < kDescriptorBytes; ++byte) {
+    uint8_t value = 0;
+    for (int bit = 0; bit < 8; ++bit) {
+      if (static_cast<size_t>(ones[byte * 8 + bit]) > half) value |= 1 << bit;
+    }
+    centre[byte] = value;
+  }
+  return centre;
+}
+
+// One k-means run on all[members] with k-means++ seeding (probability
+// proportional to the squared Hamming distance); returns the summed distance
+// of the members to their centres.
+double KMeans(const std::vector<const uint8_t*>& all,
+              const std::vector<int>& members, int k, int max_iterations,
+              std::mt19937_64* rng, std::vector<Descriptor>* centres,
+              std::vector<int>* assignment) {
+  const size_t n = members.size();
+  centres->clear();
+  std::vector<double> min_sq(n, std::numeric_limits<double>::max());
+  std::uniform_int_distribution<size_t> pick(0, n - 1);
+  size_t next = pick(*rng);
+  while (centres->size() < static_cast<size_t>(k)) {
+    Descriptor c;
+    std::memcpy(c.data(), all[members[next]], kDescriptorBytes);
+    centres->push_back(c);
+    double total = 0.0;
+    for (size_t i = 0; i < n; ++i) {
+      const double dist = HammingDistance(all[members[i]], c.data());
+      min_sq[i] = std::min(min_sq[i], dist * dist);
+      total += min_sq[i];
+    }
+    if (total <= 0.0) break;  // Every member equals a centre already.
+    std::uniform_real_distribution<double> u(0.0, total);
+    double target = u(*rng);
+    next = n - 1;
+    for (size_t i = 0; i < n; ++i) {
+      target -= min_sq[i];
+      if (target <= 0.0 && min_sq[i] > 0.0) {
+        next = i;
+        break;
+      }
+    }
+  }
+  assignment->assign(n, -1);
+  std::vector<int> distance(n, 0);
+  for (int iteration = 0; iteration < max_iterations; ++iteration) {
+    bool changed = false;
+    for (size_t i = 0; i < n; ++i) {
+      int best = 0, best_distance = std::numeric_limits<int>::max();
+      for (size_t c = 0; c < centres->size(); ++c) {
+        const int dist = HammingDistance(all[members[i]], (*centres)[c].data());
+        if (dist < best_distance) {
+          best_distance = dist;
+          best = static_cast<int>(c);
+        }
+      }
+      distance[i] = best_distance;
+      if ((*assignment)[i] != best) {
+        (*assignment)[i] = best;
+        changed = true;
+      }
+    }
+    if (!changed || iteration + 1 == max_iterations) break;
+    std::vector<std::vector<const uint8_t*>> groups(centres->size());
+    for (size_t i = 0; i < n; ++i)
+      groups[(*assignment)[i]].push_back(all[members[i]]);
+    for (size_t c = 0; c < centres->size(); ++c) {
+      if (!groups[c].empty()) (*centres)[c] = MajorityCentre(groups[c]);
+    }
+  }
+  double cost = 0.0;
+  for (int d : distance) cost += d;
+  return cost;
+}
+
+template <typename T>
+bool ReadScalar(std::string_view bytes, size_t* pos, T* value) {
+  if (bytes.size() - *pos < sizeof(T)) return false;
+  std::memcpy(value, bytes.data() + *pos, sizeof(T));
+  *pos += sizeof(T);
+  return true;
+}
+
+template <typename T>
+void AppendScalar(std::string* out, T value) {
+  out->append(reinterpret_cast<const char*>(&value), sizeof(T));
+}
+
+}  // namespace
+
+int HammingDistance(const uint8_t* a, const uint8_t* b) {
+  int distance = 0;
+  for (int i = 0; i < kDescriptorBytes; i += 8) {
+    uint64_t x, y;
+    std::memcpy(&x, a + i, 8);
+    std::memcpy(&y, b + i, 8);
+    distance += __builtin_popcountll(x ^ y);
+  }
+  return distance;
+}
+
+double ScoreL1(const BowVector& a, const BowVector& b) {
+  // 1 - |a - b|_1 / 2 = sum over common words of min(a_i, b_i) when both
+  // are L1-normalised and non-negative.
+  double score = 0.0;
+  auto i = a.begin();
+  auto j = b.begin();
+  while (i != a.end() && j != b.end()) {
+    if (i->first < j->first) {
+      ++i;
+    } else if (j->first < i->first) {
+      ++j;
+    } else {
+      score += std::min(i->second, j->second);
+      ++i;
+      ++j;
+    }
+  }
+  return score;
+}
+
+bool Vocabulary::Train(const std::vector<cv::Mat>& image_descriptors,
+                       const VocabularyTrainingOptions& options,
+                       std::string* error) {
+  if (!CheckShape(options.k, options.levels, 2, "vocabulary training", error))
+    return false;
+  if (options.max_iterations < 1 || options.restarts < 1) {
+    *error = "vocabulary training: max_iterations and restarts must be >= 1";
+    return false;
+  }
+  std::vector<const uint8_t*> all;
+  std::vector<int> image_of;
+  for (size_t i = 0; i < image_descriptors.size(); ++i) {
+    const cv::Mat& d = image_descriptors[i];
+    if (d.empty()) continue;
+    if (d.type() != CV_8U || d.cols != kDescriptorBytes) {
+      *error = "vocabulary training: image " + std::to_string(i) +
+               " has descriptors that are not 32-byte binary (ORB) rows";
+      return false;
+    }
+    for (int r = 0; r < d.rows; ++r) {
+      all.push_back(d.ptr<uint8_t>(r));
+      image_of.push_back(static_cast<int>(i));
+    }
+  }
+  if (all.empty()) {
+    *error = "vocabulary training: no descriptors";
+    return false;
+  }
+  k_ = options.k;
+  levels_ = options.levels;
+  nodes_.assign(1, Node());
+  words_.clear();
+  std::mt19937_64 rng(options.seed);
+
+  // Depth-first: (node, depth, member indices into `all`).
+  struct Task {
+    NodeId node;
+    int depth;
+    std::vector<int> members;
+  };
+  std::vector<Task> stack;
+  {
+    // Clustering on at most max_descriptors, evenly spread over the images.
+    const size_t used =
+        options.max_descriptors > 0
+            ? std::min(all.size(), static_cast<size_t>(options.max_descriptors))
+            : all.size();
+    std::vector<int> members(used);
+    for (size_t i = 0; i < used; ++i)
+      members[i] = static_cast<int>(i * all.size() / used);
+    stack.push_back({0, 0, std::move(members)});
+  }
+  while (!stack.empty()) {
+    Task task = std::move(stack.back());
+    stack.pop_back();
+    if (task.depth == levels_ || task.members.size() <= 1) {
+      continue;
+    }
+    std::vector<Descriptor> centres;
+    std::vector<int> assignment(task.members.size(), 0);
+    if (task.members.size() <= static_cast<size_t>(k_)) {
+      // As many clusters as distinct descriptors.
+      for (size_t i = 0; i < task.members.size(); ++i) {
+        const uint8_t* d = all[task.members[i]];
+        int found = -1;
+        for (size_t c = 0; c < centres.size(); ++c) {
+          if (std::memcmp(centres[c].data(), d, kDescriptorBytes) == 0)
+            found = static_cast<int>(c);
+        }
+        if (found < 0) {
+          Descriptor copy;
+          std::memcpy(copy.data(), d, kDescriptorBytes);
+          centres.push_back(copy);
+          found = static_cast<int>(centres.size()) - 1;
+        }
+        assignment[i] = found;
+      }
+    } else {
+      // k-means, keeping the best of a few k-means++ restarts (one seeding
+      // can land two centres in one cluster and Lloyd's iterations do not
+      // recover from that).
+      double best_cost = std::numeric_limits<double>::max();
+      for (int attempt = 0; attempt < options.restarts; ++attempt) {
+        std::vector<Descriptor> c;
+        std::vector<int> a;
+        const double cost =
+            KMeans(all, task.members, k_, options.max_iterations, &rng, &c, &a);
+        if (cost < best_cost) {
+          best_cost = cost;
+          centres = std::move(c);
+          assignment = std::move(a);
+        }
+      }
+    }
+    // Children for the non-empty clusters, created together (contiguous).
+    std::vector<std::vector<int>> groups(centres.size());
+    for (size_t i = 0; i < task.members.size(); ++i)
+      groups[assignment[i]].push_back(task.members[i]);
+    for (size_t c = 0; c < centres.size(); ++c) {
+      if (groups[c].empty()) continue;
+      Node child;
+      child.parent = task.node;
+      child.descriptor = centres[c];
+      const NodeId id = static_cast<NodeId>(nodes_.size());
+      nodes_.push_back(child);
+      nodes_[task.node].children.push_back(id);
+      stack.push_back({id, task.depth + 1, std::move(groups[c])});
+    }
+  }
+  if (!Finish("vocabulary training", error)) return false;
+  // idf = log(N / n_w) over the training images (every descriptor).
+  std::vector<int> images_with(words_.size(), 0);
+  std::vector<int> last_image(words_.size(), -1);
+  int num_images = 0;
+  for (size_t i = 0; i < image_descriptors.size(); ++i)
+    if (!image_descriptors[i].empty()) ++num_images;
+  for (size_t m = 0; m < all.size(); ++m) {
+    const WordId word = Quantize(all[m], 0, nullptr);
+    if (last_image[word] != image_of[m]) {
+      last_image[word] = image_of[m];
+      ++images_with[word];
+    }
+  }
+  for (size_t w = 0; w < words_.size(); ++w) {
+    nodes_[words_[w]].weight =
+        images_with[w] > 0
+            ? std::log(static_cast<double>(num_images) / images_with[w])
+            : 0.0;
+  }
+  return true;
+}
+
+bool Vocabulary::Finish(const std::string& where, std::string* error) {
+  words_.clear();
+  std::vector<int> depth(nodes_.size(), 0);
+  for (size_t i = 1; i < nodes_.size(); ++i) {
+    const NodeId parent = nodes_[i].parent;
+    if (parent >= i) {
+      *error = where + ": node " + std::to_string(i) + " has parent " +
+               std::to_string(parent) + " (parents must come first)";
+      return false;
+    }
+    depth[i] = depth[parent] + 1;
+    if (depth[i] > levels_) {
+      *error = where + ": node " + std::to_string(i) + " is at depth " +
+               std::to_string(depth[i]) + " > L = " + std::to_string(levels_);
+      return false;
+    }
+    if (nodes_[parent].children.size() > static_cast<size_t>(k_)) {
+      *error = where + ": node " + std::to_string(parent) +
+               " has more than k = " + std::to_string(k_) + " children";
+      return false;
+    }
+  }
+  for (size_t i = 1; i < nodes_.size(); ++i) {
+    if (!nodes_[i].children.empty()) {
+      nodes_[i].word = -1;
+      continue;
+    }
+    if (!std::isfinite(nodes_[i].weight) || nodes_[i].weight < 0.0) {
+      *error =
+          where + ": word node " + std::to_string(i) + " has an invalid weight";
+      return false;
+    }
+    nodes_[i].word = static_cast<int32_t>(words_.size());
+    words_.push_back(static_cast<NodeId>(i));
+  }
+  if (words_.empty()) {
+    *error = where + ": vocabulary without words";
+    return false;
+  }
+  return true;
+}
+
+WordId Vocabulary::Quantize(const uint8_t* descriptor, int levels_up,
+                            NodeId* node) const {
+  const int node_depth = std::max(0, levels_ - levels_up);
+  NodeId current = 0;
+  NodeId at_depth = 0;
+  int depth = 0;
+  while (!nodes_[current].children.empty()) {
+    NodeId best = nodes_[current].children[0];
+    int best_distance = std::numeric_limits<int>::max();
+    for (NodeId child : nodes_[current].children) {
+      const int dist =
+          HammingDistance(descriptor, nodes_[child].descriptor.data());
+      if (dist < best_distance) {
+        best_distance = dist;
+        best = child;
+      }
+    }
+    current = best;
+    ++depth;
+    if (depth <= node_depth) at_depth = current;
+  }
+  if (node != nullptr) *node = at_depth;
+  return static_cast<WordId>(nodes_[current].word);
+}
+
+void Vocabulary::Transform(const cv::Mat& descriptors, int levels_up,
+                           BowVector* bow, FeatureVector* features) const {
+  bow->clear();
+  if (features != nullptr) features->clear();
+  if (descriptors.empty() || empty()) return;
+  CV_Assert(descriptors.type() == CV_8U &&
+            descriptors.cols == kDescriptorBytes);
+  std::vector<std::pair<WordId, double>> weights;
+  std::vector<std::pair<NodeId, int>> node_features;
+  weights.reserve(descriptors.rows);
+  for (int r = 0; r < descriptors.rows; ++r) {
+    NodeId node;
+    const WordId word = Quantize(descriptors.ptr<uint8_t>(r), levels_up, &node);
+    const double weight = WordWeight(word);
+    if (weight > 0.0) weights.emplace_back(word, weight);
+    node_features.emplace_back(node, r);
+  }
+  std::sort(weights.begin(), weights.end());
+  double total = 0.0;
+  for (const auto& [word, weight] : weights) {
+    if (!bow->empty() && bow->back().first == word) {
+      bow->back().second += weight;
+    } else {
+      bow->emplace_back(word, weight);
+    }
+    total += weight;
+  }
+  if (total > 0.0) {
+    for (auto& entry : *bow) entry.second /= total;
+  }
+  if (features != nullptr) {
+    std::sort(node_features.begin(), node_features.end());
+    for (const auto& [node, index] : node_features) {
+      if (features->empty() || features->back().first != node)
+        features->emplace_back(node, std::vector<int>());
+      features->back().second.push_back(index);
+    }
+  }
+}
+
+std::string Vocabulary::SerializeBinary() const {
+  std::string out(kMagic, sizeof(kMagic));
+  out.reserve(kHeaderBytes + nodes_.size() * kNodeBytes);
+  AppendScalar<uint32_t>(&out, static_cast<uint32_t>(k_));
+  AppendScalar<uint32_t>(&out, static_cast<uint32_t>(levels_));
+  AppendScalar<uint32_t>(&out, kDescriptorBytes);
+  AppendScalar<uint32_t>(&out, static_cast<uint32_t>(nodes_.size()));
+  for (size_t i = 1; i < nodes_.size(); ++i) {
+    AppendScalar<uint32_t>(&out, nodes_[i].parent);
+    AppendScalar<double>(&out, nodes_[i].word >= 0 ? nodes_[i].weight : 0.0);
+    out.append(reinterpret_cast<const char*>(nodes_[i].descriptor.data()),
+               kDescriptorBytes);
+  }
+  return out;
+}
+
+bool Vocabulary::Save(const std::string& path, std::string* error) const {
+  return WriteFileAtomically(path, SerializeBinary(), error);
+}
+
+bool Vocabulary::ParseBinary(std::string_view bytes, const std::string& where,
+                             std::string* error) {
+  if (bytes.size() < kHeaderBytes ||
+      std::memcmp(bytes.data(), kMagic, sizeof(kMagic)) != 0) {
+    *error = where + ": not a binary vocabulary (no SLAMBOW1 header)";
+    return false;
+  }
+  size_t pos = sizeof(kMagic);
+  uint32_t k, levels, descriptor_bytes, num_nodes;
+  ReadScalar(bytes, &pos, &k);
+  ReadScalar(bytes, &pos, &levels);
+  ReadScalar(bytes, &pos, &descriptor_bytes);
+  ReadScalar(bytes, &pos, &num_nodes);
+  if (descriptor_bytes != kDescriptorBytes) {
+    *error = where + ": descriptors of " + std::to_string(descriptor_bytes) +
+             " bytes (only 32-byte ORB descriptors are supported)";
+    return false;
+  }
+  if (k > kMaxK || levels > kMaxLevels) {
+    *error = where + ": absurd tree shape k = " + std::to_string(k) +
+             ", L = " + std::to_string(levels);
+    return false;
+  }
+  if (!CheckShape(static_cast<int>(k), static_cast<int>(levels), num_nodes,
+                  where, error))
+    return false;
+  const uint64_t expected = kHeaderBytes + uint64_t{num_nodes - 1} * kNodeBytes;
+  if (bytes.size() != expected) {
+    *error = where + ": " + std::to_string(bytes.size()) + " bytes, but " +
+             std::to_string(num_nodes) + " nodes need exactly " +
+             std::to_string(expected) + " (truncated or corrupt file)";
+    return false;
+  }
+  std::vector<Node> nodes(num_nodes);
+  for (uint32_t i = 1; i < num_nodes; ++i) {
+    Node& node = nodes[i];
+    ReadScalar(bytes, &pos, &node.parent);
+    ReadScalar(bytes, &pos, &node.weight);
+    std::memcpy(node.descriptor.data(), bytes.data() + pos, kDescriptorBytes);
+    pos += kDescriptorBytes;
+    if (node.parent >= i) {
+      *error = where + ": node " + std::to_string(i) + " has parent " +
+               std::to_string(node.parent) + " (parents must come first)";
+      return false;
+    }
+    if (nodes[node.parent].children.size() >= k) {
+      *error = where + ": node " + std::to_string(node.parent) +
+               " has more than k = " + std::to_string(k) + " children";
+      return false;
+    }
+    nodes[node.parent].children.push_back(i);
+  }
+  k_ = static_cast<int>(k);
+  levels_ = static_cast<int>(levels);
+  nodes_ = std::move(nodes);
+  if (!Finish(where, error)) {
+    nodes_.clear();
+    words_.clear();
+    return false;
+  }
+  return true;
+}
+
+bool Vocabulary::LoadDbow2Yaml(const std::string& path, std::string* error) {
+  try {
+    cv::FileStorage fs(path, cv::FileStorage::READ);
+    if (!fs.isOpened()) {
+      *error = path + ": cannot open as an OpenCV YAML file";
+      return false;
+    }
+    const cv::FileNode voc = fs["vocabulary"];
+    if (voc.empty() || !voc.isMap()) {
+      *error = path + ": no 'vocabulary' map (not a DBoW2 vocabulary)";
+      return false;
+    }
+    const cv::FileNode nodes = voc["nodes"];
+    const cv::FileNode words = voc["words"];
+    if (!voc["k"].isInt() || !voc["L"].isInt() || !nodes.isSeq() ||
+        !words.isSeq()) {
+      *error = path +
+               ": DBoW2 vocabulary needs integers k, L and sequences "
+               "nodes, words";
+      return false;
+    }
+    const int k = static_cast<int>(voc["k"]);
+    const int levels = static_cast<int>(voc["L"]);
+    const int scoring =
+        voc["scoringType"].empty() ? 0 : static_cast<int>(voc["scoringType"]);
+    const int weighting = voc["weightingType"].empty()
+                              ? 0
+                              : static_cast<int>(voc["weightingType"]);
+    if (scoring != 0 || weighting != 0) {
+      *error = path + ": scoringType " + std::to_string(scoring) +
+               ", weightingType " + std::to_string(weighting) +
+               " (only L1 scoring, 0, with TF-IDF weights, 0, is supported)";
+      return false;
+    }
+    const uint64_t num_nodes = static_cast<uint64_t>(nodes.size()) + 1;
+    if (!CheckShape(k, levels, num_nodes, path, error)) return false;
+    std::vector<Node> tree(num_nodes);
+    std::vector<bool> seen(num_nodes, false);
+    size_t index = 0;
+    for (auto it = nodes.begin(); it != nodes.end(); ++it, ++index) {
+      const cv::FileNode n = *it;
+      const std::string item = path + ": nodes[" + std::to_string(index) + "]";
+      if (!n["nodeId"].isInt() || !n["parentId"].isInt() ||
+          !(n["weight"].isReal() || n["weight"].isInt()) ||
+          !n["descriptor"].isString()) {
+        *error = item + ": needs nodeId, parentId, weight, descriptor";
+        return false;
+      }
+      const int id = static_cast<int>(n["nodeId"]);
+      const int parent = static_cast<int>(n["parentId"]);
+      if (id < 1 || static_cast<uint64_t>(id) >= num_nodes || seen[id]) {
+        *error = item + ": nodeId " + std::to_string(id) +
+                 " out of range or repeated";
+        return false;
+      }
+      if (parent < 0 || parent >= id) {
+        *error = item + ": parentId " + std::to_string(parent) +
+                 " is not an earlier node";
+        return false;
+      }
+      seen[id] = true;
+      Node& node = tree[id];
+      node.parent = static_cast<NodeId>(parent);
+      node.weight = static_cast<double>(n["weight"]);
+      std::istringstream values(static_cast<std::string>(n["descriptor"]));
+      for (int b = 0; b < kDescriptorBytes; ++b) {
+        int value = -1;
+        if (!(values >> value) || value < 0 || value > 255) {
+          *error = item + ": descriptor must be 32 byte values (0-255)";
+          return false;
+        }
+        node.descriptor[b] = static_cast<uint8_t>(value);
+      }
+      std::string extra;
+      if (values >> extra) {
+        *error = item + ": descriptor has more than 32 values (not ORB)";
+        return false;
+      }
+    }
+    // Children in id order, as DBoW2 keeps them.
+    for (size_t i = 1; i < num_nodes; ++i) {
+      tree[tree[i].parent].children.push_back(static_cast<NodeId>(i));
+    }
+    k_ = k;
+    levels_ = levels;
+    nodes_ = std::move(tree);
+    if (!Finish(path, error)) {
+      nodes_.clear();
+      words_.clear();
+      return false;
+    }
+    // DBoW2 numbers the words as the leaves in node order, like Finish.
+    if (words.size() != words_.size()) {
+      *error = path + ": " + std::to_string(words.size()) +
+               " words listed but the tree has " +
+               std::to_string(words_.size()) + " leaves";
+      nodes_.clear();
+      words_.clear();
+      return false;
+    }
+    for (auto it = words.begin(); it != words.end(); ++it) {
+      const int word = static_cast<int>((*it)["wordId"]);
+      const int node = static_cast<int>((*it)["nodeId"]);
+      if (word < 0 || static_cast<size_t>(word) >= words_.size() ||
+          words_[word] != static_cast<NodeId>(node)) {
+        *error = path + ": word " + std::to_string(word) + " -> node " +
+                 std::to_string(node) +
+                 " does not match the leaves in node order";
+        nodes_.clear();
+        words_.clear();
+        return false;
+      }
+    }
+  } catch (const cv::Exception& e) {
+    *error = path + ": cannot parse as OpenCV YAML: " + e.msg;
+    nodes_.clear();
+    words_.clear();
+    return false;
+  }
+  return true;
+}
+
+bool Vocabulary::Load(const std::string& path, std::string* error) {
+  auto ends_with = [&](const std::string& suffix) {
+    return path.size() >= suffix.size() &&
+           path.compare(path.size() - suffix.size(), suffix.size(), suffix) ==
+               0;
+  };
+  if (ends_with(".yml") || ends_with(".yml.gz") || ends_with(".yaml") ||
+      ends_with(".yaml.gz")) {
+    return LoadDbow2Yaml(path, error);
+  }
+  std::string bytes;
+  if (!text::ReadWholeFile(path, &bytes, error)) return false;
+  return ParseBinary(bytes, path, error);
+}
+
+}  // namespace slam::bow

@@ -1,0 +1,58 @@
+#include "frontends/stereo/stereo_images.h"
+
+#include <opencv2/imgcodecs.hpp>
+
+namespace slam {
+
+bool LoadStereoImages(const KittiSequence& sequence, size_t k,
+                      int expected_width, int expected_height,
+                      StereoImages* images, std::string* error) {
+  const std::string& left_path = sequence.left_images[k];
+  const std::string& right_path = sequence.right_images[k];
+  images->index = static_cast<int64_t>(k);
+  images->stamp = sequence.stamps[k];
+  images->left = cv::imread(left_path, cv::IMREAD_GRAYSCALE);
+  if (images->left.empty()) {
+    *error = left_path +
+             ": cannot read the image (missing, unreadable or "
+             "not an image format OpenCV decodes)";
+    return false;
+  }
+  images->right = cv::imread(right_path, cv::IMREAD_GRAYSCALE);
+  if (images->right.empty()) {
+    *error = right_path +
+             ": cannot read the image (missing, unreadable or "
+             "not an image format OpenCV decodes)";
+    return false;
+  }
+  const cv::Size size = images->left.size();
+  if (images->right.size() != size) {
+    *error = right_path + ": " + std::to_string(images->right.cols) + "x" +
+             std::to_string(images->right.rows) + " but the left image " +
+             left_path + " is " + std::to_string(size.width) + "x" +
+             std::to_string(size.height);
+    return false;
+  }
+  if (expected_width > 0 &&
+      (size.width != expected_width || size.height != expected_height)) {
+    *error = left_path + ": " + std::to_string(size.width) + "x" +
+             std::to_string(size.height) + " but the first frame is " +
+             std::to_string(expected_width) + "x" +
+             std::to_string(expected_height);
+    return false;
+  }
+  const StereoCalibration& c = sequence.calibration;
+  if (c.cx < 0.25 * size.width || c.cx > 0.75 * size.width ||
+      c.cy < 0.25 * size.height || c.cy > 0.75 * size.height) {
+    *error = left_path + ": the image is " + std::to_string(size.width) + "x" +
+             std::to_string(size.height) + " but the principal point (" +
+             std::to_string(c.cx) + ", " + std::to_string(c.cy) + ") of " +
+             sequence.calibration_path +
+             " is not in its middle half: the calibration is for another "
+             "image size";
+    return false;
+  }
+  return true;
+}
+
+}  // namespace slam

@@ -1,0 +1,710 @@
+#include "frontends/stereo/stereo_odometry.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <memory>
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/core/eigen.hpp>
+#include <opencv2/core/hal/hal.hpp>
+#include <opencv2/features2d.hpp>
+
+#include "ceres/ceres.h"
+#include "factors/landmark_factors.h"
+
+namespace slam {
+namespace {
+
+double MsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(
+             std::chrono::steady_clock::now() - start)
+      .count();
+}
+
+int Hamming(const cv::Mat& a, int i, const cv::Mat& b, int j) {
+  return cv::hal::normHamming(a.ptr<uchar>(i), b.ptr<uchar>(j), 32);
+}
+
+double RotationAngle(const Pose3& p) { return Eigen::AngleAxisd(p.q).angle(); }
+
+ceres::Solver::Options SolverOptions(int iterations,
+                                     ceres::LinearSolverType solver) {
+  ceres::Solver::Options o;
+  o.max_num_iterations = iterations;
+  o.linear_solver_type = solver;
+  o.logging_type = ceres::SILENT;
+  o.minimizer_progress_to_stdout = false;
+  o.num_threads = 1;
+  return o;
+}
+
+}  // namespace
+
+bool ValidateStereoOdometryConfig(const StereoOdometryConfig& c,
+                                  std::string* error) {
+  auto fail = [&](const char* message) {
+    *error = message;
+    return false;
+  };
+  if (!(c.pixel_sigma > 0) || !(c.scale_factor >= 1) || !(c.chi2_stereo > 0) ||
+      !(c.chi2_mono > 0))
+    return fail("pixel_sigma, chi2 thresholds must be > 0, scale_factor >= 1");
+  if (c.local_map_keyframes < 1 || !(c.search_radius > 0) ||
+      c.max_descriptor_distance < 0 || c.max_descriptor_distance > 256 ||
+      !(c.match_ratio > 0 && c.match_ratio <= 1))
+    return fail(
+        "tracking: local_map_keyframes >= 1, search_radius > 0, "
+        "max_descriptor_distance in [0, 256], match_ratio in (0, 1]");
+  if (c.pose_rounds < 1 || c.pose_iterations < 1 || c.min_inliers < 6)
+    return fail("pose_rounds, pose_iterations >= 1, min_inliers >= 6");
+  if (!(c.pnp_reprojection_error > 0) || c.pnp_iterations < 1 ||
+      !(c.pnp_ratio > 0 && c.pnp_ratio <= 1))
+    return fail(
+        "pnp: reprojection_error > 0, iterations >= 1, ratio in (0, 1]");
+  if (!(c.keyframe_tracked_ratio >= 0 && c.keyframe_tracked_ratio <= 1) ||
+      c.keyframe_min_inliers < 0 || !(c.keyframe_depth_fraction > 0) ||
+      !(c.keyframe_rotation > 0) || c.keyframe_max_frames < 1 ||
+      c.min_initial_points < 6)
+    return fail(
+        "keyframes: tracked_ratio in [0, 1], min_inliers >= 0, "
+        "depth_fraction and rotation > 0, max_frames >= 1, "
+        "min_initial_points >= 6");
+  if (c.min_point_observations < 1 || c.cull_after_keyframes < 0)
+    return fail("min_point_observations >= 1, cull_after_keyframes >= 0");
+  if (c.window_keyframes < 1 || c.local_ba_iterations < 0 ||
+      c.final_ba_iterations < 0)
+    return fail("bundle adjustment: window >= 1, iterations >= 0");
+  return true;
+}
+
+StereoOdometry::StereoOdometry(const StereoOdometryConfig& config,
+                               const StereoCalibration& calibration,
+                               int image_width, int image_height)
+    : config_(config),
+      calibration_(calibration),
+      width_(image_width),
+      height_(image_height) {
+  pinhole_.fx = calibration.fx;
+  pinhole_.fy = calibration.fy;
+  pinhole_.cx = calibration.cx;
+  pinhole_.cy = calibration.cy;
+}
+
+Pose3 StereoOdometry::KeyframePose(int64_t keyframe) const {
+  return NodePose3(*graph_.FindNode(Pose3Key(keyframe)));
+}
+
+Eigen::Vector3d StereoOdometry::PointValue(int64_t point) const {
+  const std::vector<double>& v = graph_.FindNode(Point3Key(point))->value;
+  return Eigen::Vector3d(v[0], v[1], v[2]);
+}
+
+Pose3 StereoOdometry::FramePose(const FrameRecord& record) const {
+  if (record.keyframe < 0) return Pose3();
+  return KeyframePose(record.keyframe) * record.keyframe_to_frame;
+}
+
+std::vector<int64_t> StereoOdometry::LocalMapPoints(int64_t frame_index) {
+  std::vector<int64_t> local;
+  const int64_t n = static_cast<int64_t>(keyframes_.size());
+  for (int64_t k = std::max<int64_t>(0, n - config_.local_map_keyframes); k < n;
+       ++k) {
+    for (int64_t p : keyframes_[k].point_of_keypoint) {
+      if (p < 0 || !point_alive_[p] || points_[p].local_stamp == frame_index)
+        continue;
+      points_[p].local_stamp = frame_index;
+      local.push_back(p);
+    }
+  }
+  return local;
+}
+
+std::vector<StereoOdometry::Match> StereoOdometry::SearchByProjection(
+    const StereoFeatureFrame& frame, const Pose3& pose,
+    const std::vector<int64_t>& points, double radius) const {
+  // Keypoints on a grid of cells for the window lookups.
+  constexpr int kCell = 16;
+  const int cols = width_ / kCell + 1, rows = height_ / kCell + 1;
+  std::vector<std::vector<int>> grid(cols * rows);
+  for (size_t i = 0; i < frame.size(); ++i) {
+    const cv::Point2f& pt = frame.keypoints[i].pt;
+    const int cx = std::clamp(static_cast<int>(pt.x) / kCell, 0, cols - 1);
+    const int cy = std::clamp(static_cast<int>(pt.y) / kCell, 0, rows - 1);
+    grid[cy * cols + cx].push_back(static_cast<int>(i));
+  }
+  const Eigen::Matrix3d rt = pose.q.conjugate().toRotationMatrix();
+  const double max_scale = std::pow(config_.scale_factor, 7);
+  std::vector<Match> best(frame.size(), {-1, -1, 1 << 30});
+  for (int64_t p : points) {
+    const Eigen::Vector3d pc = rt * (PointValue(p) - pose.t);
+    if (!(pc.z() > 0.1 * calibration_.baseline)) continue;
+    const double u = calibration_.fx * pc.x() / pc.z() + calibration_.cx;
+    const double v = calibration_.fy * pc.y() / pc.z() + calibration_.cy;
+    if (u < 0 || v < 0 || u >= width_ || v >= height_) continue;
+    const double ur = u - calibration_.fx * calibration_.baseline / pc.z();
+    const double r_max = radius * max_scale;
+    const int x0 = std::max(0, static_cast<int>((u - r_max) / kCell));
+    const int x1 = std::min(cols - 1, static_cast<int>((u + r_max) / kCell));
+    const int y0 = std::max(0, static_cast<int>((v - r_max) / kCell));
+    const int y1 = std::min(rows - 1, static_cast<int>((v + r_max) / kCell));
+    int best_d = 1 << 30, second_d = 1 << 30, best_i = -1;
+    for (int gy = y0; gy <= y1; ++gy) {
+      for (int gx = x0; gx <= x1; ++gx) {
+        for (int i : grid[gy * cols + gx]) {
+          const cv::KeyPoint& k = frame.keypoints[i];
+          const double r = radius * std::pow(config_.scale_factor, k.octave);
+          const double du = k.pt.x - u, dv = k.pt.y - v;
+          if (du * du + dv * dv > r * r) continue;
+          if (frame.HasStereo(i) && std::abs(frame.u_right[i] - ur) > r)
+            continue;
+          const int d = Hamming(points_[p].descriptor, 0, frame.descriptors, i);
+          if (d < best_d) {
+            second_d = best_d;
+            best_d = d;
+            best_i = i;
+          } else if (d < second_d) {
+            second_d = d;
+          }
+        }
+      }
+    }
+    if (best_i < 0 || best_d > config_.max_descriptor_distance) continue;
+    if (second_d < (1 << 30) && best_d >= config_.match_ratio * second_d)
+      continue;
+    if (best_d < best[best_i].distance) best[best_i] = {best_i, p, best_d};
+  }
+  // One keypoint per point as well: the closest in descriptor.
+  std::vector<Match> matches;
+  for (const Match& m : best) {
+    if (m.keypoint >= 0) matches.push_back(m);
+  }
+  std::sort(matches.begin(), matches.end(), [](const Match& a, const Match& b) {
+    return a.point != b.point ? a.point < b.point : a.distance < b.distance;
+  });
+  matches.erase(std::unique(matches.begin(), matches.end(),
+                            [](const Match& a, const Match& b) {
+                              return a.point == b.point;
+                            }),
+                matches.end());
+  return matches;
+}
+
+std::vector<StereoOdometry::Match> StereoOdometry::SearchByDescriptor(
+    const StereoFeatureFrame& frame, const std::vector<int64_t>& points) const {
+  std::vector<Match> matches;
+  if (points.size() < 2 || frame.size() < 2) return matches;
+  cv::Mat map_descriptors(static_cast<int>(points.size()), 32, CV_8U);
+  for (size_t k = 0; k < points.size(); ++k) {
+    points_[points[k]].descriptor.copyTo(
+        map_descriptors.row(static_cast<int>(k)));
+  }
+  cv::BFMatcher matcher(cv::NORM_HAMMING);
+  std::vector<std::vector<cv::DMatch>> knn;
+  matcher.knnMatch(frame.descriptors, map_descriptors, knn, 2);
+  std::vector<Match> best(points.size(), {-1, -1, 1 << 30});
+  for (const auto& m : knn) {
+    if (m.size() < 2) continue;
+    if (m[0].distance > config_.max_descriptor_distance ||
+        m[0].distance >= config_.pnp_ratio * m[1].distance) {
+      continue;
+    }
+    Match& b = best[m[0].trainIdx];
+    if (m[0].distance < b.distance) {
+      b = {m[0].queryIdx, points[m[0].trainIdx],
+           static_cast<int>(m[0].distance)};
+    }
+  }
+  for (const Match& m : best) {
+    if (m.keypoint >= 0) matches.push_back(m);
+  }
+  return matches;
+}
+
+bool StereoOdometry::PnpRansac(const StereoFeatureFrame& frame,
+                               const std::vector<Match>& matches,
+                               Pose3* pose) const {
+  if (matches.size() < 6) return false;
+  std::vector<cv::Point3d> object;
+  std::vector<cv::Point2d> image;
+  for (const Match& m : matches) {
+    const Eigen::Vector3d p = PointValue(m.point);
+    object.emplace_back(p.x(), p.y(), p.z());
+    image.emplace_back(frame.keypoints[m.keypoint].pt);
+  }
+  const cv::Matx33d k(calibration_.fx, 0, calibration_.cx, 0, calibration_.fy,
+                      calibration_.cy, 0, 0, 1);
+  cv::Mat rvec, tvec;
+  std::vector<int> inliers;
+  if (!cv::solvePnPRansac(object, image, k, cv::noArray(), rvec, tvec, false,
+                          config_.pnp_iterations,
+                          static_cast<float>(config_.pnp_reprojection_error),
+                          0.99, inliers, cv::SOLVEPNP_EPNP) ||
+      static_cast<int>(inliers.size()) < config_.min_inliers / 2) {
+    return false;
+  }
+  cv::Matx33d r;
+  cv::Rodrigues(rvec, r);
+  Eigen::Matrix3d r_cw;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) r_cw(i, j) = r(i, j);
+  const Eigen::Vector3d t_cw(tvec.at<double>(0), tvec.at<double>(1),
+                             tvec.at<double>(2));
+  // T_world_camera = T_camera_world^-1.
+  const Eigen::Quaterniond q_cw(r_cw);
+  *pose = Pose3(t_cw, q_cw.normalized()).Inverse();
+  return true;
+}
+
+bool StereoOdometry::MakeObservationFactor(const StereoFeatureFrame& frame,
+                                           int keypoint, const Key& camera,
+                                           const Key& point,
+                                           Factor* factor) const {
+  const cv::KeyPoint& k = frame.keypoints[keypoint];
+  const double sigma =
+      config_.pixel_sigma * std::pow(config_.scale_factor, k.octave);
+  const double info = 1.0 / (sigma * sigma);
+  std::string error;
+  if (frame.HasStereo(keypoint)) {
+    return MakeStereo(camera, point, calibration_,
+                      Eigen::Vector3d(k.pt.x, frame.u_right[keypoint], k.pt.y),
+                      info * Eigen::Matrix3d::Identity(), factor, &error);
+  }
+  return MakeReprojection(camera, point, pinhole_,
+                          Eigen::Vector2d(k.pt.x, k.pt.y),
+                          info * Eigen::Matrix2d::Identity(), factor, &error);
+}
+
+double StereoOdometry::Chi2Threshold(const Factor& factor) const {
+  return factor.type == FactorType::kStereo ? config_.chi2_stereo
+                                            : config_.chi2_mono;
+}
+
+int StereoOdometry::OptimizePose(const StereoFeatureFrame& frame,
+                                 std::vector<Match>* matches,
+                                 Pose3* pose) const {
+  std::vector<double> camera = Pose3Value(*pose);
+  std::vector<Factor> factors(matches->size());
+  std::vector<std::array<double, 3>> values(matches->size());
+  for (size_t k = 0; k < matches->size(); ++k) {
+    const Match& m = (*matches)[k];
+    const Eigen::Vector3d p = PointValue(m.point);
+    values[k] = {p.x(), p.y(), p.z()};
+    MakeObservationFactor(frame, m.keypoint, Pose3Key(0), Point3Key(0),
+                          &factors[k]);
+  }
+  std::vector<bool> inlier(matches->size(), true);
+  const ceres::Manifold* manifold = graph_.ManifoldFor(NodeKind::kPose3);
+  int inliers = 0;
+  for (int round = 0; round < config_.pose_rounds; ++round) {
+    ceres::Problem problem(Graph::ProblemOptions());
+    std::vector<std::unique_ptr<ceres::LossFunction>> losses;
+    problem.AddParameterBlock(camera.data(), 7,
+                              const_cast<ceres::Manifold*>(manifold));
+    int used = 0;
+    for (size_t k = 0; k < factors.size(); ++k) {
+      if (!inlier[k] || factors[k].cost == nullptr) continue;
+      losses.emplace_back(
+          new ceres::HuberLoss(std::sqrt(Chi2Threshold(factors[k]))));
+      problem.AddResidualBlock(factors[k].cost.get(), losses.back().get(),
+                               camera.data(), values[k].data());
+      problem.SetParameterBlockConstant(values[k].data());
+      ++used;
+    }
+    if (used < 3) return 0;
+    ceres::Solver::Summary summary;
+    ceres::Solve(SolverOptions(config_.pose_iterations, ceres::DENSE_QR),
+                 &problem, &summary);
+    // Classify every match (outliers of earlier rounds may come back).
+    inliers = 0;
+    for (size_t k = 0; k < factors.size(); ++k) {
+      if (factors[k].cost == nullptr) {
+        inlier[k] = false;
+        continue;
+      }
+      const double* params[2] = {camera.data(), values[k].data()};
+      double r[3];
+      const bool ok = factors[k].cost->Evaluate(params, r, nullptr);
+      const int n = factors[k].type == FactorType::kStereo ? 3 : 2;
+      double chi2 = 0;
+      for (int i = 0; i < n; ++i) chi2 += r[i] * r[i];
+      inlier[k] = ok && chi2 <= Chi2Threshold(factors[k]);
+      inliers += inlier[k];
+    }
+  }
+  std::vector<Match> kept;
+  for (size_t k = 0; k < matches->size(); ++k) {
+    if (inlier[k]) kept.push_back((*matches)[k]);
+  }
+  *matches = std::move(kept);
+  Pose3 result;
+  result.t = Eigen::Vector3d(camera[0], camera[1], camera[2]);
+  result.q = Eigen::Quaterniond(camera[6], camera[3], camera[4], camera[5])
+                 .normalized();
+  *pose = result;
+  return inliers;
+}
+
+int64_t StereoOdometry::AddKeyframe(const StereoFeatureFrame& frame,
+                                    const Pose3& pose,
+                                    const std::vector<Match>& matches,
+                                    int* new_points) {
+  const int64_t id = static_cast<int64_t>(keyframes_.size());
+  Node* node = graph_.AddNode(Pose3Key(id), Pose3Value(pose));
+  node->stamp = frame.stamp;
+  node->has_stamp = true;
+  Keyframe kf;
+  kf.frame_index = frame.index;
+  kf.stamp = frame.stamp;
+  kf.features = frame;
+  kf.point_of_keypoint.assign(frame.size(), -1);
+  auto observe = [&](int keypoint, int64_t point) {
+    Factor factor;
+    if (!MakeObservationFactor(frame, keypoint, Pose3Key(id), Point3Key(point),
+                               &factor)) {
+      return false;
+    }
+    const FactorId fid = graph_.AddFactor(std::move(factor));
+    if (fid < 0) return false;
+    graph_.SetLoss(fid, std::make_shared<ceres::HuberLoss>(
+                            std::sqrt(Chi2Threshold(*graph_.FindFactor(fid)))));
+    points_[point].observations.push_back({id, keypoint, fid});
+    frame.descriptors.row(keypoint).copyTo(points_[point].descriptor);
+    kf.point_of_keypoint[keypoint] = point;
+    return true;
+  };
+  for (const Match& m : matches) observe(m.keypoint, m.point);
+  // New points from the stereo keypoints without a map point.
+  *new_points = 0;
+  const Eigen::Matrix3d r = pose.q.toRotationMatrix();
+  std::vector<double> depths;
+  for (size_t i = 0; i < frame.size(); ++i) {
+    if (!frame.HasStereo(i)) continue;
+    const double disparity = frame.keypoints[i].pt.x - frame.u_right[i];
+    const double z = calibration_.fx * calibration_.baseline / disparity;
+    depths.push_back(z);
+    if (kf.point_of_keypoint[i] >= 0) continue;
+    const Eigen::Vector3d pc(
+        (frame.keypoints[i].pt.x - calibration_.cx) * z / calibration_.fx,
+        (frame.keypoints[i].pt.y - calibration_.cy) * z / calibration_.fy, z);
+    const Eigen::Vector3d pw = r * pc + pose.t;
+    const int64_t pid = static_cast<int64_t>(points_.size());
+    points_.emplace_back();
+    point_alive_.push_back(true);
+    graph_.AddNode(Point3Key(pid), {pw.x(), pw.y(), pw.z()});
+    if (!observe(static_cast<int>(i), pid)) {
+      dead_points_.push_back(Point3Key(pid));
+      point_alive_[pid] = false;
+      continue;
+    }
+    kf.created_points.push_back(pid);
+    ++*new_points;
+  }
+  if (!depths.empty()) {
+    std::nth_element(depths.begin(), depths.begin() + depths.size() / 2,
+                     depths.end());
+    kf.median_depth = depths[depths.size() / 2];
+  }
+  stats_.points_created += *new_points;
+  keyframes_.push_back(std::move(kf));
+  ++stats_.keyframes;
+  return id;
+}
+
+void StereoOdometry::RemoveObservation(int64_t point, size_t observation) {
+  MapPoint& mp = points_[point];
+  const Observation o = mp.observations[observation];
+  graph_.RemoveFactor(o.factor);
+  keyframes_[o.keyframe].point_of_keypoint[o.keypoint] = -1;
+  mp.observations.erase(mp.observations.begin() + observation);
+  ++stats_.observations_removed;
+  if (mp.observations.empty()) {
+    dead_points_.push_back(Point3Key(point));
+    point_alive_[point] = false;
+  }
+}
+
+bool StereoOdometry::CullPoint(int64_t point) {
+  if (!point_alive_[point] ||
+      static_cast<int>(points_[point].observations.size()) >=
+          config_.min_point_observations) {
+    return false;
+  }
+  while (point_alive_[point]) {
+    RemoveObservation(point, points_[point].observations.size() - 1);
+    --stats_.observations_removed;  // Culled, not outliers.
+  }
+  ++stats_.points_culled;
+  return true;
+}
+
+void StereoOdometry::RemoveOutlierObservations(
+    const std::vector<int64_t>& points) {
+  for (int64_t p : points) {
+    if (!point_alive_[p]) continue;
+    for (size_t k = points_[p].observations.size(); k-- > 0;) {
+      const Factor* f = graph_.FindFactor(points_[p].observations[k].factor);
+      double chi2 = 0;
+      if (!graph_.FactorChi2(*f, &chi2) || !(chi2 <= Chi2Threshold(*f))) {
+        RemoveObservation(p, k);
+        if (!point_alive_[p]) break;
+      }
+    }
+  }
+}
+
+void StereoOdometry::LocalBundleAdjustment(int64_t newest) {
+  const int64_t first =
+      std::max<int64_t>(0, newest + 1 - config_.window_keyframes);
+  std::vector<int64_t> points;
+  for (int64_t k = first; k <= newest; ++k) {
+    for (int64_t p : keyframes_[k].point_of_keypoint) {
+      if (p >= 0 && point_alive_[p]) points.push_back(p);
+    }
+  }
+  std::sort(points.begin(), points.end());
+  points.erase(std::unique(points.begin(), points.end()), points.end());
+  if (config_.local_ba_iterations > 0 && newest > 0) {
+    ceres::Problem problem(Graph::ProblemOptions());
+    auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
+    const ceres::Manifold* manifold = graph_.ManifoldFor(NodeKind::kPose3);
+    std::vector<int64_t> fixed;
+    for (int64_t p : points) {
+      for (const Observation& o : points_[p].observations) {
+        const Factor* f = graph_.FindFactor(o.factor);
+        std::vector<double*> blocks = graph_.ParameterBlocks(*f);
+        problem.AddResidualBlock(f->cost.get(), f->loss.get(), blocks);
+        if (!ordering->IsMember(blocks[0])) {
+          problem.SetManifold(blocks[0],
+                              const_cast<ceres::Manifold*>(manifold));
+          ordering->AddElementToGroup(blocks[0], 1);
+          if (o.keyframe < first) fixed.push_back(o.keyframe);
+        }
+        if (!ordering->IsMember(blocks[1])) {
+          ordering->AddElementToGroup(blocks[1], 0);
+        }
+      }
+    }
+    std::sort(fixed.begin(), fixed.end());
+    fixed.erase(std::unique(fixed.begin(), fixed.end()), fixed.end());
+    for (int64_t k : fixed) {
+      problem.SetParameterBlockConstant(
+          graph_.FindNode(Pose3Key(k))->value.data());
+    }
+    // The gauge: held by the fixed keyframes, else by the oldest in the
+    // window (and always by keyframe 0).
+    if (fixed.empty() || first == 0) {
+      double* oldest = graph_.FindNode(Pose3Key(first))->value.data();
+      if (problem.HasParameterBlock(oldest))
+        problem.SetParameterBlockConstant(oldest);
+    }
+    ceres::Solver::Options options =
+        SolverOptions(config_.local_ba_iterations, ceres::DENSE_SCHUR);
+    options.linear_solver_ordering = ordering;
+    ceres::Solver::Summary summary;
+    ceres::Solve(options, &problem, &summary);
+    ++stats_.local_bundle_adjustments;
+  }
+  RemoveOutlierObservations(points);
+  const int64_t check = newest - config_.cull_after_keyframes;
+  if (check >= 0) {
+    for (int64_t p : keyframes_[check].created_points) CullPoint(p);
+  }
+  RemoveDeadPoints();
+}
+
+void StereoOdometry::RemoveDeadPoints() {
+  graph_.RemoveNodes(dead_points_);
+  dead_points_.clear();
+}
+
+StereoFrameResult StereoOdometry::AddFrame(const StereoFeatureFrame& frame) {
+  const auto start = std::chrono::steady_clock::now();
+  StereoFrameResult result;
+  result.index = frame.index;
+  ++stats_.frames;
+  FrameRecord record;
+  record.index = frame.index;
+  record.stamp = frame.stamp;
+  if (keyframes_.empty()) {
+    // Start the map at the first frame with enough stereo points; frames
+    // before it stay at the origin.
+    int stereo = 0;
+    for (size_t i = 0; i < frame.size(); ++i) stereo += frame.HasStereo(i);
+    if (stereo >= config_.min_initial_points) {
+      const Pose3 origin =
+          frames_.empty() ? Pose3() : FramePose(frames_.back());
+      AddKeyframe(frame, origin, {}, &result.new_points);
+      record.keyframe = 0;
+      result.keyframe = true;
+      result.initialized = true;
+      frames_since_keyframe_ = 0;
+    }
+    frames_.push_back(record);
+    result.tracking_ms = MsSince(start);
+    return result;
+  }
+  result.initialized = true;
+  const Pose3 previous = FramePose(frames_.back());
+  const Pose3 predicted = previous * last_motion_;
+  std::vector<int64_t> local = LocalMapPoints(frame.index);
+  std::vector<Match> matches =
+      SearchByProjection(frame, predicted, local, config_.search_radius);
+  result.matches = static_cast<int>(matches.size());
+  Pose3 pose = predicted;
+  int inliers = static_cast<int>(matches.size()) >= 6
+                    ? OptimizePose(frame, &matches, &pose)
+                    : 0;
+  if (inliers >= config_.min_inliers) {
+    // A second projection search from the refined pose finds the points the
+    // prediction missed.
+    std::vector<Match> more =
+        SearchByProjection(frame, pose, local, config_.search_radius / 2);
+    if (more.size() > matches.size()) {
+      Pose3 refined = pose;
+      const int n = OptimizePose(frame, &more, &refined);
+      if (n >= inliers) {
+        inliers = n;
+        matches = std::move(more);
+        pose = refined;
+      }
+    }
+  }
+  if (inliers < config_.min_inliers) {
+    result.used_pnp = true;
+    ++stats_.pnp_fallbacks;
+    std::vector<Match> candidates = SearchByDescriptor(frame, local);
+    Pose3 pnp_pose;
+    inliers = 0;
+    if (PnpRansac(frame, candidates, &pnp_pose)) {
+      std::vector<Match> again =
+          SearchByProjection(frame, pnp_pose, local, config_.search_radius / 2);
+      const int n = static_cast<int>(again.size()) >= 6
+                        ? OptimizePose(frame, &again, &pnp_pose)
+                        : 0;
+      if (n >= config_.min_inliers) {
+        inliers = n;
+        matches = std::move(again);
+        pose = pnp_pose;
+      }
+    }
+  }
+  if (inliers < config_.min_inliers) {
+    result.lost = true;
+    ++stats_.lost_frames;
+    pose = predicted;
+    matches.clear();
+    inliers = 0;
+  }
+  result.inliers = inliers;
+  last_motion_ = previous.Inverse() * pose;
+  ++frames_since_keyframe_;
+
+  // Step 6: keyframe decision.
+  const Keyframe& last = keyframes_.back();
+  const int64_t last_id = static_cast<int64_t>(keyframes_.size()) - 1;
+  int last_points = 0;
+  for (int64_t p : last.point_of_keypoint) last_points += p >= 0;
+  const Pose3 from_last = KeyframePose(last_id).Inverse() * pose;
+  const bool make_keyframe =
+      result.lost || inliers < config_.keyframe_min_inliers ||
+      inliers < config_.keyframe_tracked_ratio * last_points ||
+      from_last.t.norm() >
+          config_.keyframe_depth_fraction * last.median_depth ||
+      RotationAngle(from_last) > config_.keyframe_rotation ||
+      frames_since_keyframe_ >= config_.keyframe_max_frames;
+  result.tracking_ms = MsSince(start);
+  if (make_keyframe) {
+    const auto ba_start = std::chrono::steady_clock::now();
+    const int64_t id = AddKeyframe(frame, pose, matches, &result.new_points);
+    LocalBundleAdjustment(id);
+    record.keyframe = id;
+    record.keyframe_to_frame = Pose3();
+    result.keyframe = true;
+    frames_since_keyframe_ = 0;
+    result.local_ba_ms = MsSince(ba_start);
+  } else {
+    record.keyframe = last_id;
+    record.keyframe_to_frame = from_last;
+  }
+  frames_.push_back(record);
+  return result;
+}
+
+void StereoOdometry::Finish() {
+  for (size_t p = 0; p < points_.size(); ++p) {
+    CullPoint(static_cast<int64_t>(p));
+  }
+  RemoveDeadPoints();
+  if (config_.final_ba_iterations <= 0 || keyframes_.size() < 2) return;
+  const auto start = std::chrono::steady_clock::now();
+  ceres::Problem problem(Graph::ProblemOptions());
+  auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
+  const ceres::Manifold* manifold = graph_.ManifoldFor(NodeKind::kPose3);
+  for (const auto& [id, factor] : graph_.factors()) {
+    std::vector<double*> blocks = graph_.ParameterBlocks(factor);
+    problem.AddResidualBlock(factor.cost.get(), factor.loss.get(), blocks);
+    if (!ordering->IsMember(blocks[0])) {
+      problem.SetManifold(blocks[0], const_cast<ceres::Manifold*>(manifold));
+      ordering->AddElementToGroup(blocks[0], 1);
+    }
+    if (!ordering->IsMember(blocks[1]))
+      ordering->AddElementToGroup(blocks[1], 0);
+  }
+  double* first = graph_.FindNode(Pose3Key(0))->value.data();
+  if (problem.HasParameterBlock(first))
+    problem.SetParameterBlockConstant(first);
+  ceres::Solver::Options options =
+      SolverOptions(config_.final_ba_iterations, ceres::SPARSE_SCHUR);
+  options.linear_solver_ordering = ordering;
+  ceres::Solver::Summary summary;
+  ceres::Solve(options, &problem, &summary);
+  stats_.global_ba_initial_chi2 = CeresCostToChi2(summary.initial_cost);
+  stats_.global_ba_final_chi2 = CeresCostToChi2(summary.final_cost);
+  std::vector<int64_t> all;
+  for (size_t p = 0; p < points_.size(); ++p) {
+    if (point_alive_[p]) all.push_back(static_cast<int64_t>(p));
+  }
+  RemoveOutlierObservations(all);
+  RemoveDeadPoints();
+  stats_.final_ba_ms = MsSince(start);
+}
+
+Trajectory StereoOdometry::FrameTrajectory() const {
+  Trajectory trajectory;
+  for (const FrameRecord& r : frames_) {
+    trajectory.push_back({r.stamp, FramePose(r)});
+  }
+  return trajectory;
+}
+
+std::vector<Eigen::Vector3d> StereoOdometry::MapPoints() const {
+  std::vector<Eigen::Vector3d> out;
+  for (size_t p = 0; p < points_.size(); ++p) {
+    if (point_alive_[p]) out.push_back(PointValue(static_cast<int64_t>(p)));
+  }
+  return out;
+}
+
+}  // namespace slam
+
+namespace slam {
+
+std::vector<StereoOdometry::PointTrack> StereoOdometry::PointTracks() const {
+  std::vector<PointTrack> tracks;
+  for (size_t p = 0; p < points_.size(); ++p) {
+    if (!point_alive_[p]) continue;
+    PointTrack t;
+    t.point = static_cast<int64_t>(p);
+    for (const Observation& o : points_[p].observations) {
+      t.observations.push_back(
+          {keyframes_[o.keyframe].frame_index, o.keypoint,
+           graph_.FindFactor(o.factor)->type == FactorType::kStereo});
+    }
+    tracks.push_back(std::move(t));
+  }
+  return tracks;
+}
+
+}  // namespace slam

@@ -1,0 +1,257 @@
+// Stereo visual odometry: keyframes and map points as a bundle-adjustment
+// graph (core/graph.h: Pose3 keyframes T_world_camera of the left camera,
+// Point3 map points in the world frame, rectified stereo factors
+// factors/stereo_projection.h and pinhole factors factors/reprojection.h),
+// built from the features of each frame (stereo_features.h).
+//
+// Per frame (in order):
+//  1. Prediction: the previous frame's pose composed with the last
+//     inter-frame motion (constant velocity; identity for the second frame).
+//  2. Local map: the points observed by the last local_map_keyframes
+//     keyframes.
+//  3. Matching by projection: each local point, projected with the
+//     predicted pose, is matched to the frame's keypoint within
+//     search_radius pixels (times 1.2^octave of the keypoint) with the
+//     smallest Hamming distance, if at most max_descriptor_distance and
+//     below match_ratio times the second smallest; for a stereo keypoint
+//     the right image coordinate must agree as well. One point per
+//     keypoint (the closest in descriptor wins).
+//  4. Pose-only refinement: the frame pose minimizes the stereo (or, for
+//     keypoints without a stereo match, monocular) reprojection errors of
+//     the matches with a Huber kernel, in pose_rounds rounds; after each
+//     round every match is classified by the chi2 test of its whitened
+//     error (chi2_stereo for 3 dof, chi2_mono for 2) and only inliers
+//     enter the next round (ORB-SLAM's PoseOptimization). Pixel noise:
+//     pixel_sigma * 1.2^octave.
+//  5. Fallback when fewer than min_inliers matches survive: the frame's
+//     descriptors are matched to the local map's by brute force (ratio
+//     test), cv::solvePnPRansac estimates the pose from those 3D-2D pairs,
+//     and steps 3-4 run again from it with search_radius / 2. If that fails
+//     too the frame keeps the prediction (counted as lost) and becomes a
+//     keyframe, so that the map restarts from its stereo points.
+//  6. Keyframe decision: a new keyframe when the inliers drop below
+//     keyframe_tracked_ratio times the map points the last keyframe
+//     observes, or below keyframe_min_inliers, or the camera moved more
+//     than keyframe_depth_fraction times the median depth of the last
+//     keyframe's points or turned more than keyframe_rotation, or
+//     keyframe_max_frames frames passed.
+//  7. Keyframe: its inlier matches become factors; its stereo keypoints
+//     without a map point (closer than the feature extractor's depth limit)
+//     become new map points, triangulated from the stereo pair. A point
+//     that min_point_observations keyframes do not observe by the time
+//     cull_after_keyframes more keyframes exist is removed (an unconfirmed
+//     point: a wrong stereo match, or a feature that did not repeat).
+//  8. Local bundle adjustment over the last window_keyframes keyframes and
+//     every point they observe (Schur complement, points eliminated first);
+//     the other keyframes that observe those points enter held fixed, as
+//     ORB-SLAM's local BA does (marginalizing them instead would turn
+//     thousands of point observations into dense priors between the window's
+//     poses at every keyframe). Observations that fail the chi2 test or lie
+//     behind their camera afterwards are removed from the graph; points
+//     left without observations are removed.
+//  9. Finish: the points below min_point_observations are removed, then a
+//     global bundle adjustment over every keyframe and point
+//     (final_ba_iterations; 0: none), the first keyframe held fixed.
+//
+// Every frame keeps its pose relative to its reference keyframe (the last
+// keyframe when it was tracked), so that every frame gets a pose in the
+// output trajectory after the keyframes move.
+#ifndef SLAM_FRONTENDS_STEREO_STEREO_ODOMETRY_H_
+#define SLAM_FRONTENDS_STEREO_STEREO_ODOMETRY_H_
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/graph.h"
+#include "core/trajectory.h"
+#include "frontends/stereo/stereo_frame.h"
+
+namespace slam {
+
+struct StereoOdometryConfig {
+  // Measurement noise and the outlier tests.
+  // Keypoint noise at octave 0, times scale_factor^octave: FAST corners sit
+  // on whole pixels (0.29 px from rounding alone) and move by about as
+  // much between views; the whitened residuals of the KITTI excerpt have an
+  // RMS near 0.3 px.
+  double pixel_sigma = 0.5;
+  double scale_factor = 1.2;   // Of the feature pyramid.
+  double chi2_stereo = 7.815;  // 95 % of chi2 with 3 dof.
+  double chi2_mono = 5.991;    // 95 % of chi2 with 2 dof.
+  // Tracking.
+  int local_map_keyframes = 10;
+  double search_radius = 15.0;  // Pixels at octave 0.
+  int max_descriptor_distance = 80;
+  double match_ratio = 0.9;
+  int pose_rounds = 4;
+  int pose_iterations = 10;  // Per round.
+  int min_inliers = 15;
+  // PnP-RANSAC fallback.
+  double pnp_reprojection_error = 3.0;  // Pixels.
+  int pnp_iterations = 300;
+  double pnp_ratio = 0.8;  // Brute-force matching ratio test.
+  // Keyframes.
+  double keyframe_tracked_ratio = 0.8;
+  int keyframe_min_inliers = 100;
+  double keyframe_depth_fraction = 0.1;
+  double keyframe_rotation = 0.17;  // rad (about 10 deg).
+  int keyframe_max_frames = 10;
+  int min_initial_points = 50;  // Stereo points to start the map.
+  // Map point culling.
+  int min_point_observations = 2;
+  int cull_after_keyframes = 2;
+  // Bundle adjustment.
+  int window_keyframes = 8;
+  int local_ba_iterations = 10;
+  int final_ba_iterations = 30;  // 0: no final global BA.
+};
+
+bool ValidateStereoOdometryConfig(const StereoOdometryConfig& config,
+                                  std::string* error);
+
+// What happened to one frame.
+struct StereoFrameResult {
+  int64_t index = 0;
+  int matches = 0;  // Matches before the pose refinement.
+  int inliers = 0;  // After.
+  bool used_pnp = false;
+  bool lost = false;
+  bool initialized = false;  // The map exists after this frame.
+  bool keyframe = false;
+  int new_points = 0;
+  double tracking_ms = 0.0;
+  double local_ba_ms = 0.0;
+};
+
+struct StereoOdometryStats {
+  int frames = 0;
+  int keyframes = 0;
+  int pnp_fallbacks = 0;
+  int lost_frames = 0;
+  int points_created = 0;
+  int observations_removed = 0;
+  int points_culled = 0;
+  int local_bundle_adjustments = 0;
+  double final_ba_ms = 0.0;
+  // Robust chi2 (sum of rho(e^T Omega e), Huber) of the global BA.
+  double global_ba_initial_chi2 = 0.0;
+  double global_ba_final_chi2 = 0.0;
+};
+
+class StereoOdometry {
+ public:
+  StereoOdometry(const StereoOdometryConfig& config,
+                 const StereoCalibration& calibration, int image_width,
+                 int image_height);
+
+  StereoFrameResult AddFrame(const StereoFeatureFrame& frame);
+  // The global bundle adjustment (step 9).
+  void Finish();
+
+  // Every frame's camera pose (T_world_camera, the first frame at the
+  // origin), stamped, in frame order.
+  Trajectory FrameTrajectory() const;
+  // Keyframes and points with their observations.
+  const Graph& graph() const { return graph_; }
+  std::vector<Eigen::Vector3d> MapPoints() const;
+  // Each live map point's graph id and its observations: the frame index
+  // of the observing keyframe, the keypoint index in that frame, and
+  // whether it is a stereo (else monocular) factor.
+  struct TrackObservation {
+    int64_t frame = 0;
+    int keypoint = 0;
+    bool stereo = false;
+  };
+  struct PointTrack {
+    int64_t point = 0;
+    std::vector<TrackObservation> observations;
+  };
+  std::vector<PointTrack> PointTracks() const;
+  // The graph for computations that need write access (marginals).
+  Graph* mutable_graph() { return &graph_; }
+  const StereoOdometryStats& stats() const { return stats_; }
+
+ private:
+  struct Observation {
+    int64_t keyframe;
+    int keypoint;
+    FactorId factor;
+  };
+  struct MapPoint {
+    cv::Mat descriptor;  // 1 x 32, from the latest keyframe observing it.
+    std::vector<Observation> observations;
+    int64_t local_stamp = -1;  // Frame that last put it into a local map.
+  };
+  struct Keyframe {
+    int64_t frame_index = 0;
+    TimeNs stamp = 0;
+    StereoFeatureFrame features;
+    std::vector<int64_t> point_of_keypoint;  // -1: none.
+    std::vector<int64_t> created_points;
+    double median_depth = 0.0;
+  };
+  struct FrameRecord {
+    int64_t index = 0;
+    TimeNs stamp = 0;
+    int64_t keyframe = -1;  // Reference keyframe; -1: before the map.
+    Pose3 keyframe_to_frame;
+  };
+  struct Match {
+    int keypoint;
+    int64_t point;
+    int distance;
+  };
+
+  Pose3 FramePose(const FrameRecord& record) const;
+  Pose3 KeyframePose(int64_t keyframe) const;
+  Eigen::Vector3d PointValue(int64_t point) const;
+  std::vector<int64_t> LocalMapPoints(int64_t frame_index);
+  std::vector<Match> SearchByProjection(const StereoFeatureFrame& frame,
+                                        const Pose3& pose,
+                                        const std::vector<int64_t>& points,
+                                        double radius) const;
+  std::vector<Match> SearchByDescriptor(
+      const StereoFeatureFrame& frame,
+      const std::vector<int64_t>& points) const;
+  bool PnpRansac(const StereoFeatureFrame& frame,
+                 const std::vector<Match>& matches, Pose3* pose) const;
+  // Step 4; returns the number of inliers and keeps only them in *matches.
+  int OptimizePose(const StereoFeatureFrame& frame, std::vector<Match>* matches,
+                   Pose3* pose) const;
+  // A stereo factor for a stereo keypoint, else a monocular one.
+  bool MakeObservationFactor(const StereoFeatureFrame& frame, int keypoint,
+                             const Key& camera, const Key& point,
+                             Factor* factor) const;
+  double Chi2Threshold(const Factor& factor) const;
+  int64_t AddKeyframe(const StereoFeatureFrame& frame, const Pose3& pose,
+                      const std::vector<Match>& matches, int* new_points);
+  void LocalBundleAdjustment(int64_t newest_keyframe);
+  void RemoveOutlierObservations(const std::vector<int64_t>& points);
+  void RemoveObservation(int64_t point, size_t observation);
+  // Removes the point if fewer than min_point_observations keyframes see
+  // it; true if it was removed.
+  bool CullPoint(int64_t point);
+
+  StereoOdometryConfig config_;
+  StereoCalibration calibration_;
+  PinholeCalibration pinhole_;
+  int width_;
+  int height_;
+  Graph graph_;
+  std::vector<Keyframe> keyframes_;  // Index = keyframe id.
+  std::vector<MapPoint> points_;     // Index = point id (may be removed).
+  std::vector<bool> point_alive_;
+  // Point nodes left without observations, removed from the graph in one
+  // pass (RemoveDeadPoints) rather than one scan of the factors each.
+  std::vector<Key> dead_points_;
+  void RemoveDeadPoints();
+  std::vector<FrameRecord> frames_;
+  Pose3 last_motion_;  // T_prev^-1 T_current.
+  int frames_since_keyframe_ = 0;
+  StereoOdometryStats stats_;
+};
+
+}  // namespace slam
+
+#endif  // SLAM_FRONTENDS_STEREO_STEREO_ODOMETRY_H_

@@ -1,0 +1,165 @@
+// Stereo visual odometry on a synthetic stereo world with a known answer
+// (frontends/stereo/stereo_simulator.h): noise-free keypoints recover the
+// path to the precision of the keypoint coordinates, pixel noise gives errors
+// of the size the bundle adjustment's covariance predicts, and wrong matches
+// (by appearance or in the stereo pair) are rejected.
+#include <cmath>
+#include <cstdio>
+#include <map>
+
+#include "core/marginals.h"
+#include "frontends/stereo/stereo_odometry.h"
+#include "frontends/stereo/stereo_simulator.h"
+#include "gtest/gtest.h"
+
+namespace slam {
+namespace {
+
+struct RunResult {
+  Trajectory estimate;
+  double max_position_error = 0.0;
+  double max_rotation_error = 0.0;  // rad
+  double rmse = 0.0;
+  StereoOdometryStats stats;
+};
+
+RunResult RunOdometry(const StereoSimulation& sim,
+                      const StereoSimulationConfig& sc,
+                      StereoOdometry* odometry) {
+  for (const StereoFeatureFrame& frame : sim.frames) odometry->AddFrame(frame);
+  odometry->Finish();
+  RunResult r;
+  r.estimate = odometry->FrameTrajectory();
+  r.stats = odometry->stats();
+  double sse = 0.0;
+  for (size_t k = 0; k < sim.poses.size(); ++k) {
+    const Pose3& gt = sim.poses[k].pose;
+    const Pose3& est = r.estimate[k].pose;
+    const double e = (gt.t - est.t).norm();
+    sse += e * e;
+    r.max_position_error = std::max(r.max_position_error, e);
+    r.max_rotation_error =
+        std::max(r.max_rotation_error,
+                 Eigen::AngleAxisd(gt.q.conjugate() * est.q).angle());
+  }
+  r.rmse = std::sqrt(sse / sim.poses.size());
+  return r;
+}
+
+StereoOdometry MakeOdometry(const StereoSimulationConfig& sc) {
+  StereoOdometryConfig config;
+  return StereoOdometry(config, sc.calibration, sc.width, sc.height);
+}
+
+TEST(StereoOdometryTest, NoiseFreeKeypointsRecoverThePath) {
+  StereoSimulationConfig sc;
+  sc.frames = 40;
+  sc.points_per_metre = 15.0;
+  const StereoSimulation sim = SimulateStereo(sc);
+  StereoOdometry odometry = MakeOdometry(sc);
+  const RunResult r = RunOdometry(sim, sc, &odometry);
+  EXPECT_EQ(r.estimate.size(), sim.poses.size());
+  EXPECT_EQ(r.stats.lost_frames, 0);
+  EXPECT_GT(r.stats.keyframes, 3);
+  // Keypoints are cv::KeyPoint floats (about 3e-5 px at u = 600): that is
+  // the numerical precision of the input.
+  EXPECT_LT(r.max_position_error, 2e-5) << "over " << sc.frames << " m";
+  EXPECT_LT(r.max_rotation_error, 1e-6);
+}
+
+TEST(StereoOdometryTest, PixelNoiseGivesTheErrorItsCovariancePredicts) {
+  // Over several worlds, the error of the last keyframe against its
+  // marginal covariance from the final bundle adjustment (relative to the
+  // first keyframe, which is held fixed): the mean NEES must be near its
+  // 6 degrees of freedom. An estimator that ignored the noise model, was
+  // biased or overconfident by a factor 2 in sigma would fail this.
+  double nees_sum = 0.0;
+  const int runs = 8;
+  for (int seed = 1; seed <= runs; ++seed) {
+    StereoSimulationConfig sc;
+    sc.frames = 20;
+    sc.points_per_metre = 15.0;
+    sc.pixel_sigma = 0.7;
+    sc.seed = seed;
+    const StereoSimulation sim = SimulateStereo(sc);
+    StereoOdometryConfig config;
+    config.pixel_sigma = sc.pixel_sigma;
+    StereoOdometry odometry(config, sc.calibration, sc.width, sc.height);
+    const RunResult r = RunOdometry(sim, sc, &odometry);
+    EXPECT_EQ(r.stats.lost_frames, 0);
+    // The last keyframe: its frame index and the error there.
+    int64_t last_key = -1;
+    for (const auto& [key, node] : odometry.graph().nodes()) {
+      if (key.kind == NodeKind::kPose3) last_key = std::max(last_key, key.id);
+    }
+    ASSERT_GE(last_key, 1);
+    const Node* node = odometry.graph().FindNode(Pose3Key(last_key));
+    const Pose3 est = NodePose3(*node);
+    size_t frame = 0;
+    for (size_t k = 0; k < r.estimate.size(); ++k) {
+      if (r.estimate[k].stamp == node->stamp) frame = k;
+    }
+    const Pose3 gt = sim.poses[frame].pose;
+    // Right-perturbation error in the tangent space (translation, rotation).
+    const Pose3 delta = est.Inverse() * gt;
+    Eigen::Matrix<double, 6, 1> e;
+    e.head<3>() = delta.t;
+    const Eigen::AngleAxisd aa(delta.q);
+    e.tail<3>() = aa.angle() * aa.axis();
+    std::map<Key, Eigen::MatrixXd> cov;
+    std::string error;
+    ASSERT_TRUE(ComputeMarginals(odometry.mutable_graph(), {Pose3Key(last_key)},
+                                 &cov, &error))
+        << error;
+    nees_sum += e.dot(cov[Pose3Key(last_key)].ldlt().solve(e));
+    EXPECT_LT(r.rmse, 0.5) << "seed " << seed;
+  }
+  const double mean_nees = nees_sum / runs;
+  std::printf("mean NEES of the last keyframe over %d worlds: %.2f (6 dof)\n",
+              runs, mean_nees);
+  // chi2 with 6 dof averaged over 8 runs: 99 % interval about [2.6, 10.5].
+  EXPECT_GT(mean_nees, 2.6);
+  EXPECT_LT(mean_nees, 10.5);
+}
+
+TEST(StereoOdometryTest, WrongMatchesAreRejected) {
+  StereoSimulationConfig sc;
+  sc.frames = 40;
+  sc.points_per_metre = 15.0;
+  sc.pixel_sigma = 0.5;
+  const StereoSimulation clean_sim = SimulateStereo(sc);
+  StereoOdometry clean = MakeOdometry(sc);
+  const RunResult clean_result = RunOdometry(clean_sim, sc, &clean);
+
+  sc.outlier_fraction = 0.15;         // Same appearance, wrong place.
+  sc.stereo_outlier_fraction = 0.10;  // Right u 8 px off.
+  const StereoSimulation sim = SimulateStereo(sc);
+  StereoOdometry odometry = MakeOdometry(sc);
+  const RunResult r = RunOdometry(sim, sc, &odometry);
+  EXPECT_EQ(r.stats.lost_frames, 0);
+  // No map point mixes observations of different true points, and almost no
+  // observation in the final graph comes from an outlier keypoint.
+  int observations = 0, outliers = 0, mixed = 0;
+  for (const auto& track : odometry.PointTracks()) {
+    std::map<int, int> votes;
+    for (const auto& [frame, keypoint, stereo] : track.observations) {
+      ++observations;
+      // A wrong right u is harmless in a monocular observation.
+      outliers += sim.outlier[frame][keypoint] &&
+                  (stereo || sim.true_point[frame][keypoint] < 0);
+      ++votes[sim.true_point[frame][keypoint]];
+      EXPECT_GE(sim.true_point[frame][keypoint], 0) << "spurious keypoint";
+    }
+    mixed += votes.size() > 1;
+  }
+  ASSERT_GT(observations, 1000);
+  EXPECT_LT(outliers, 0.005 * observations)
+      << outliers << " of " << observations;
+  EXPECT_LT(mixed, 5);
+  // And the path is as good as without outliers (within noise).
+  EXPECT_LT(r.rmse, 2.0 * clean_result.rmse + 0.01)
+      << "clean " << clean_result.rmse;
+}
+
+}  // namespace
+}  // namespace slam
