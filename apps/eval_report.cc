@@ -66,9 +66,14 @@ void PrintAssociationAndAlignment(const EvalResult& r, const EvalSettings& s,
         << Fmt("%.6f", a.max_abs_dt) << " s\n";
     if (a.dropped_duplicates > 0) {
       out << "  note: " << a.dropped_duplicates
-          << " pair(s) dropped to keep the association one-to-one (evo would "
-             "match those poses twice; t_max_diff exceeds half the sampling "
-             "interval)\n";
+          << " pair(s) dropped to keep the association one-to-one "
+             "(--unique_pairs; evo keeps them)\n";
+    }
+    if (a.reused_poses > 0) {
+      out << "  note: " << a.reused_poses
+          << " pair(s) reuse a pose of the longer trajectory already paired "
+             "(as evo; t_max_diff is at least half its sampling interval; "
+             "--unique_pairs keeps the closest pair only)\n";
     }
   }
   out << "alignment: " << AlignmentDescription(s, a.size()) << "\n";
@@ -116,6 +121,13 @@ void PrintEvalTable(const EvalResult& r, const EvalSettings& s,
                     "10 frames): t_rel %.4f %%, r_rel %.4f deg/100m\n",
                     k.num_segments, k.t_rel_percent, k.r_rel_deg_per_100m);
       out << buf;
+      // The devkit's own figures (stats.txt: mean t_err in m/m, mean r_err
+      // in rad/m, printed with %f) and r_rel in deg/m.
+      std::snprintf(
+          buf, sizeof(buf), "  devkit stats.txt: %f %f (r_rel %.9f deg/m)\n",
+          k.t_rel_percent / 100.0, k.r_rel_deg_per_100m / 100.0 * M_PI / 180.0,
+          k.r_rel_deg_per_100m / 100.0);
+      out << buf;
       for (const auto& l : k.by_length) {
         std::snprintf(buf, sizeof(buf),
                       "  %4.0f m: %5zu segments  t_rel %8.4f %%  r_rel %8.4f "
@@ -147,6 +159,7 @@ JsonObject EvalSettingsJson(const EvalSettings& s) {
         s.association == AssociationMethod::kIndex ? "index" : "timestamp")
       .Add("t_max_diff", s.sync.t_max_diff)
       .Add("t_offset", s.sync.t_offset)
+      .Add("unique_pairs", s.sync.unique_pairs)
       .Add("align", AlignmentMethodName(s.align))
       .Add("n_to_align", s.n_to_align)
       .Add("rpe_delta", s.rpe.delta)
@@ -172,6 +185,7 @@ void AddEvalResultJson(const EvalResult& r, const EvalSettings& s,
   JsonObject assoc;
   assoc.Add("method", r.association.by_index ? "index" : "timestamp")
       .Add("max_pairs", r.association.max_pairs)
+      .Add("reused_poses", r.association.reused_poses)
       .Add("dropped_duplicates", r.association.dropped_duplicates)
       .Add("max_abs_dt", r.association.max_abs_dt);
   o.Add("association", assoc);
@@ -245,6 +259,14 @@ bool EvaluateAndReport(const Trajectory& ref, const Trajectory& est,
                        const EvalSettings& settings, const EvalLabels& labels,
                        const std::string& plot_dir, std::ostream& out,
                        EvalResult* result, std::string* error) {
+  return EvaluateAndReport(ToEvalTrajectory(ref), ToEvalTrajectory(est),
+                           settings, labels, plot_dir, out, result, error);
+}
+
+bool EvaluateAndReport(const EvalTrajectory& ref, const EvalTrajectory& est,
+                       const EvalSettings& settings, const EvalLabels& labels,
+                       const std::string& plot_dir, std::ostream& out,
+                       EvalResult* result, std::string* error) {
   if (!EvaluateTrajectories(ref, est, settings, result, error)) return false;
   PrintAssociationAndAlignment(*result, settings, out);
   PrintEvalTable(*result, settings, out);
@@ -284,12 +306,13 @@ bool ReadEvalSettingsYaml(const YAML::Node& node, const std::string& where,
                           EvalSettings* s, bool* associate_auto,
                           std::string* error) {
   if (!node) return true;
-  if (!CheckKnownKeys(node,
-                      {"associate", "t_max_diff", "t_offset", "align",
-                       "n_to_align", "rpe_delta", "rpe_unit", "rpe_all_pairs",
-                       "rpe_pairs_from_reference", "rpe_delta_tol", "kitti",
-                       "relations_t_max_diff", "relations_interpolate"},
-                      where, error)) {
+  if (!CheckKnownKeys(
+          node,
+          {"associate", "t_max_diff", "t_offset", "align", "n_to_align",
+           "rpe_delta", "rpe_unit", "rpe_all_pairs", "rpe_pairs_from_reference",
+           "rpe_delta_tol", "kitti", "unique_pairs", "relations_t_max_diff",
+           "relations_interpolate"},
+          where, error)) {
     return false;
   }
   std::string associate = *associate_auto ? "auto"
@@ -301,6 +324,8 @@ bool ReadEvalSettingsYaml(const YAML::Node& node, const std::string& where,
   if (!ReadOptional(node, "associate", where, &associate, error) ||
       !ReadOptional(node, "t_max_diff", where, &s->sync.t_max_diff, error) ||
       !ReadOptional(node, "t_offset", where, &s->sync.t_offset, error) ||
+      !ReadOptional(node, "unique_pairs", where, &s->sync.unique_pairs,
+                    error) ||
       !ReadOptional(node, "align", where, &align, error) ||
       !ReadOptional(node, "n_to_align", where, &s->n_to_align, error) ||
       !ReadOptional(node, "rpe_delta", where, &s->rpe.delta, error) ||
@@ -356,6 +381,8 @@ std::string EvalSettingsYaml(const EvalSettings& s, bool associate_auto,
     << "          # s, nearest-stamp association\n";
   o << pad << "t_offset: " << Fmt("%.17g", s.sync.t_offset)
     << "               # s, added to the estimate's stamps\n";
+  o << pad << "unique_pairs: " << (s.sync.unique_pairs ? "true" : "false")
+    << "       # true: one-to-one pairs (not evo's behaviour)\n";
   o << pad << "align: " << AlignmentMethodName(s.align)
     << "                # none | se3 | sim3 | scale | origin\n";
   o << pad << "n_to_align: " << s.n_to_align

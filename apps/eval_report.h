@@ -45,6 +45,12 @@ bool EvaluateAndReport(const Trajectory& ref, const Trajectory& est,
                        const EvalSettings& settings, const EvalLabels& labels,
                        const std::string& plot_dir, std::ostream& out,
                        EvalResult* result, std::string* error);
+// The trajectories as read (datasets/trajectory_io.h ToEvalTrajectory: evo's
+// float64 stamps, KITTI matrices as read).
+bool EvaluateAndReport(const EvalTrajectory& ref, const EvalTrajectory& est,
+                       const EvalSettings& settings, const EvalLabels& labels,
+                       const std::string& plot_dir, std::ostream& out,
+                       EvalResult* result, std::string* error);
 
 // Index association when either side has no stamps (KITTI without times).
 AssociationMethod ChooseAssociation(bool ref_has_stamps, bool est_has_stamps);
@@ -69,7 +75,8 @@ void AddEvalResultJson(const EvalResult& result, const EvalSettings& settings,
 JsonObject StatisticsJson(const ErrorStatistics& stats, const char* unit);
 
 // Plots written into `dir` (PNG), by the plot module (apps/plot_module.h):
-// trajectories.png (reference and aligned estimate seen from above),
+// trajectories.png (reference and aligned estimate on the plane of the two
+// axes of largest extent),
 // ape_map.png (estimate coloured by the APE with a colour bar), ape.png (APE
 // over time, translation and rotation), rpe.png (RPE over time). The names
 // written are appended to *written.
@@ -82,11 +89,12 @@ bool WriteEvalPlotsImpl(const std::string& dir, const EvalResult& result,
                         std::vector<std::string>* written, std::string* error);
 
 // The `eval:` section of a YAML config. Keys: associate (auto|time|index),
-// t_max_diff, t_offset, align (none|se3|sim3|scale|origin), n_to_align,
-// rpe_delta, rpe_unit (frames|m|s), rpe_all_pairs, rpe_pairs_from_reference,
-// rpe_delta_tol, kitti, relations_t_max_diff, relations_interpolate (for
-// slam eval --relations). Unknown keys are errors. *associate_auto is set when
-// associate is auto (the caller decides from the stamps).
+// t_max_diff, t_offset, unique_pairs, align (none|se3|sim3|scale|origin),
+// n_to_align, rpe_delta, rpe_unit (frames|m|s), rpe_all_pairs,
+// rpe_pairs_from_reference, rpe_delta_tol, kitti, relations_t_max_diff,
+// relations_interpolate (for slam eval --relations). Unknown keys are errors.
+// *associate_auto is set when associate is auto (the caller decides from the
+// stamps).
 bool ReadEvalSettingsYaml(const YAML::Node& node, const std::string& where,
                           EvalSettings* settings, bool* associate_auto,
                           std::string* error);

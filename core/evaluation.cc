@@ -1,6 +1,7 @@
 #include "core/evaluation.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -21,10 +22,73 @@ std::string Format(const char* fmt, double a) {
 
 std::string Seconds(TimeNs ns) { return Format("%.6f", NsToSeconds(ns)); }
 
-// Relative pose a^-1 b.
-Pose3 Between(const Pose3& a, const Pose3& b) { return a.Inverse() * b; }
+// b - a in seconds, without int64 overflow for stamps of opposite signs.
+double SecondsBetween(TimeNs a, TimeNs b) {
+  return static_cast<double>(static_cast<__int128>(b) - a) * 1e-9;
+}
+
+// Relative pose a^-1 b (evo's relative_se3: the transpose as inverse).
+MatrixPose Between(const MatrixPose& a, const MatrixPose& b) {
+  return a.TransposeInverse() * b;
+}
 
 }  // namespace
+
+// ------------------------------------------------------------------- poses
+
+MatrixPose::MatrixPose(const Pose3& pose) : t(pose.t) {
+  // transformations.quaternion_matrix: q *= sqrt(2 / |q|^2), then the
+  // entries of the outer product q q^T (q = w, x, y, z).
+  const Eigen::Quaterniond& q = pose.q;
+  double v[4] = {q.w(), q.x(), q.y(), q.z()};
+  const double n = v[0] * v[0] + v[1] * v[1] + v[2] * v[2] + v[3] * v[3];
+  if (n < std::numeric_limits<double>::epsilon() * 4.0) return;
+  const double f = std::sqrt(2.0 / n);
+  for (double& x : v) x *= f;
+  auto o = [&](int i, int j) { return v[i] * v[j]; };
+  r << 1.0 - o(2, 2) - o(3, 3), o(1, 2) - o(3, 0), o(1, 3) + o(2, 0),
+      o(1, 2) + o(3, 0), 1.0 - o(1, 1) - o(3, 3), o(2, 3) - o(1, 0),
+      o(1, 3) - o(2, 0), o(2, 3) + o(1, 0), 1.0 - o(1, 1) - o(2, 2);
+}
+
+std::vector<MatrixPose> ToMatrixPoses(const std::vector<Pose3>& poses) {
+  std::vector<MatrixPose> out;
+  out.reserve(poses.size());
+  for (const Pose3& p : poses) out.emplace_back(p);
+  return out;
+}
+
+double NearestSeconds(TimeNs ns) {
+  // Up to 2^53 the integer is exact in a double and IEEE division rounds
+  // correctly.
+  constexpr TimeNs kExact = TimeNs{1} << 53;
+  if (ns > -kExact && ns < kExact) return static_cast<double>(ns) / 1e9;
+  // Otherwise the exact decimal text, then its correctly rounded double.
+  char buf[40];
+  const bool negative = ns < 0;
+  const unsigned long long a = negative
+                                   ? 0ULL - static_cast<unsigned long long>(ns)
+                                   : static_cast<unsigned long long>(ns);
+  const int len =
+      std::snprintf(buf, sizeof(buf), "%s%llu.%09llu", negative ? "-" : "",
+                    a / 1000000000ULL, a % 1000000000ULL);
+  double value = 0.0;
+  std::from_chars(buf, buf + len, value);
+  return value;
+}
+
+EvalTrajectory ToEvalTrajectory(const Trajectory& trajectory) {
+  EvalTrajectory out;
+  out.stamps.reserve(trajectory.size());
+  out.seconds.reserve(trajectory.size());
+  out.poses.reserve(trajectory.size());
+  for (const StampedPose& p : trajectory) {
+    out.stamps.push_back(p.stamp);
+    out.seconds.push_back(NearestSeconds(p.stamp));
+    out.poses.emplace_back(p.pose);
+  }
+  return out;
+}
 
 // ---------------------------------------------------------------- statistics
 
@@ -65,92 +129,175 @@ ErrorStatistics ComputeErrorStatistics(const std::vector<double>& errors) {
 
 // --------------------------------------------------------------- association
 
-Association AssociateByTimestamp(const Trajectory& ref, const Trajectory& est,
+bool CheckAssociationOptions(const AssociationOptions& options,
+                             std::string* error) {
+  if (!(options.t_max_diff >= 0.0)) {
+    *error = "t_max_diff must be >= 0 (got " +
+             Format("%g", options.t_max_diff) + ")";
+    return false;
+  }
+  if (!std::isfinite(options.t_offset)) {
+    *error = "t_offset must be a finite number of seconds (got " +
+             Format("%g", options.t_offset) + ")";
+    return false;
+  }
+  return true;
+}
+
+Association AssociateByTimestamp(const EvalTrajectory& ref,
+                                 const EvalTrajectory& est,
                                  const AssociationOptions& options) {
   Association result;
   result.by_index = false;
   // As evo: iterate over the trajectory with fewer poses (the estimate when
-  // both have as many) and look up the nearest stamp of the other.
+  // both have as many) and look up the nearest stamp of the other, whose
+  // stamps carry the offset (+offset for the estimate, -offset for the
+  // reference), all in float64 seconds. evo takes numpy's argmin of
+  // |stamp - t| over the stamps in file order: the lowest index among the
+  // closest. Here the stamps are sorted (stably, so equal stamps keep their
+  // file order) and searched; files need not be sorted.
   const bool est_longer = est.size() > ref.size();
-  const Trajectory& shorter = est_longer ? ref : est;
-  const Trajectory& longer = est_longer ? est : ref;
+  const std::vector<double>& shorter = est_longer ? ref.seconds : est.seconds;
+  const std::vector<double>& longer_raw =
+      est_longer ? est.seconds : ref.seconds;
   result.max_pairs = shorter.size();
-  const TimeNs offset = SecondsToNs(options.t_offset);
-  // Offset applied to the longer trajectory's stamps (evo: offset_2 when the
-  // estimate is longer, -offset_2 otherwise).
-  const TimeNs long_offset = est_longer ? offset : -offset;
-  const double max_diff_ns = options.t_max_diff * 1e9;
+  const double offset = est_longer ? options.t_offset : -options.t_offset;
+  const size_t n = longer_raw.size();
+  std::vector<double> shifted(n);
+  for (size_t j = 0; j < n; ++j) shifted[j] = longer_raw[j] + offset;
+  std::vector<size_t> order(n);  // File indices by stamp.
+  for (size_t j = 0; j < n; ++j) order[j] = j;
+  if (!std::is_sorted(shifted.begin(), shifted.end())) {
+    std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+      return shifted[a] < shifted[b];
+    });
+  }
+  std::vector<double> value(n);
+  for (size_t j = 0; j < n; ++j) value[j] = shifted[order[j]];
+  // run_end[p]: the first position after the run of stamps equal to
+  // value[p]; the first of a run has the run's lowest file index.
+  std::vector<size_t> run_end(n);
+  for (size_t j = n; j-- > 0;) {
+    run_end[j] = j + 1 < n && value[j + 1] == value[j] ? run_end[j + 1] : j + 1;
+  }
 
   std::vector<size_t> short_ids;
   std::vector<size_t> long_ids;
-  std::vector<TimeNs> abs_diffs;
+  std::vector<double> abs_diffs;
   for (size_t s = 0; s < shorter.size(); ++s) {
-    const TimeNs target = shorter[s].stamp - long_offset;
-    auto it = std::lower_bound(
-        longer.begin(), longer.end(), target,
-        [](const StampedPose& p, TimeNs t) { return p.stamp < t; });
-    size_t best = longer.size();
-    TimeNs best_diff = std::numeric_limits<TimeNs>::max();
-    const size_t k = static_cast<size_t>(it - longer.begin());
-    // Candidates k - 1 (first, so that it wins a tie as numpy's argmin) and k.
-    for (size_t c : {k - 1, k}) {
-      if (c >= longer.size()) continue;  // k - 1 wraps for k == 0.
-      const TimeNs d = longer[c].stamp + long_offset - shorter[s].stamp;
-      const TimeNs ad = d < 0 ? -d : d;
-      if (ad < best_diff) {
-        best_diff = ad;
-        best = c;
+    const double t = shorter[s];
+    // |value[p] - t| does not increase up to k (the first p with value[p]
+    // >= t) and does not decrease from k on. Candidates: every run whose
+    // difference equals the smallest on its side (more than one run only
+    // when rounding maps different stamps to one difference).
+    const size_t k = static_cast<size_t>(
+        std::lower_bound(value.begin(), value.end(), t) - value.begin());
+    size_t best = n;  // File index.
+    double best_diff = std::numeric_limits<double>::infinity();
+    auto consider = [&](size_t file_index, double diff) {
+      if (diff < best_diff || (diff == best_diff && file_index < best)) {
+        best = file_index;
+        best_diff = diff;
+      }
+    };
+    if (k > 0) {
+      const double d = std::fabs(value[k - 1] - t);
+      size_t lo = 0, hi = k - 1;  // First p in [lo, hi] with diff <= d.
+      while (lo < hi) {
+        const size_t mid = lo + (hi - lo) / 2;
+        if (std::fabs(value[mid] - t) <= d) {
+          hi = mid;
+        } else {
+          lo = mid + 1;
+        }
+      }
+      for (size_t p = lo; p < k; p = run_end[p]) consider(order[p], d);
+    }
+    if (k < n) {
+      const double d = std::fabs(value[k] - t);
+      for (size_t p = k; p < n && std::fabs(value[p] - t) == d;
+           p = run_end[p]) {
+        consider(order[p], d);
       }
     }
-    if (best < longer.size() && static_cast<double>(best_diff) <= max_diff_ns) {
+    if (best < n && best_diff <= options.t_max_diff) {
       short_ids.push_back(s);
       long_ids.push_back(best);
       abs_diffs.push_back(best_diff);
     }
   }
-  // One-to-one: long indices are non-decreasing; among runs of equal long
-  // indices keep the pair with the smallest |dt| (first on a tie).
+  // A pose of the longer trajectory in several pairs: evo keeps them all;
+  // unique_pairs keeps the pair with the smallest difference (the first on
+  // a tie).
   std::vector<size_t> keep;
-  for (size_t i = 0; i < long_ids.size();) {
-    size_t j = i;
-    size_t best = i;
-    while (j < long_ids.size() && long_ids[j] == long_ids[i]) {
-      if (abs_diffs[j] < abs_diffs[best]) best = j;
-      ++j;
+  std::vector<size_t> best_pair(n, n);  // Per long index: its kept pair.
+  for (size_t i = 0; i < long_ids.size(); ++i) {
+    size_t& b = best_pair[long_ids[i]];
+    if (b == n) {
+      b = i;
+      continue;
     }
-    keep.push_back(best);
-    result.dropped_duplicates += (j - i) - 1;
-    i = j;
+    if (options.unique_pairs) {
+      if (abs_diffs[i] < abs_diffs[b]) b = i;
+      ++result.dropped_duplicates;
+    } else {
+      ++result.reused_poses;
+    }
+  }
+  for (size_t i = 0; i < long_ids.size(); ++i) {
+    if (options.unique_pairs && best_pair[long_ids[i]] != i) continue;
+    keep.push_back(i);
   }
   for (const size_t k : keep) {
     const size_t ri = est_longer ? short_ids[k] : long_ids[k];
     const size_t ei = est_longer ? long_ids[k] : short_ids[k];
     result.ref_indices.push_back(ri);
     result.est_indices.push_back(ei);
-    result.max_abs_dt = std::max(result.max_abs_dt, NsToSeconds(abs_diffs[k]));
+    result.max_abs_dt = std::max(result.max_abs_dt, abs_diffs[k]);
   }
   return result;
 }
 
-bool AssociateByIndex(const Trajectory& ref, const Trajectory& est,
-                      Association* association, std::string* error) {
-  if (ref.size() != est.size()) {
+Association AssociateByTimestamp(const Trajectory& ref, const Trajectory& est,
+                                 const AssociationOptions& options) {
+  return AssociateByTimestamp(ToEvalTrajectory(ref), ToEvalTrajectory(est),
+                              options);
+}
+
+namespace {
+
+bool AssociateBySize(size_t ref_size, size_t est_size, Association* association,
+                     std::string* error) {
+  if (ref_size != est_size) {
     *error =
         "association by index needs as many poses in both trajectories "
         "(reference " +
-        std::to_string(ref.size()) + ", estimate " +
-        std::to_string(est.size()) +
+        std::to_string(ref_size) + ", estimate " + std::to_string(est_size) +
         "); give stamps (e.g. a KITTI times file) to associate by time";
     return false;
   }
   *association = Association();
   association->by_index = true;
-  association->max_pairs = ref.size();
-  for (size_t i = 0; i < ref.size(); ++i) {
+  association->max_pairs = ref_size;
+  for (size_t i = 0; i < ref_size; ++i) {
     association->ref_indices.push_back(i);
     association->est_indices.push_back(i);
   }
   return true;
+}
+
+// The stamps only (for messages).
+Trajectory StampsOnly(const EvalTrajectory& t) {
+  Trajectory out(t.size());
+  for (size_t i = 0; i < t.size(); ++i) out[i].stamp = t.stamps[i];
+  return out;
+}
+
+}  // namespace
+
+bool AssociateByIndex(const Trajectory& ref, const Trajectory& est,
+                      Association* association, std::string* error) {
+  return AssociateBySize(ref.size(), est.size(), association, error);
 }
 
 namespace {
@@ -175,11 +322,12 @@ std::string ExplainNoTimestampMatches(const Trajectory& ref,
     return ref.empty() ? "the reference has no poses"
                        : "the estimate has no poses";
   }
-  const TimeNs offset = SecondsToNs(options.t_offset);
+  const double offset =
+      std::isfinite(options.t_offset) ? options.t_offset : 0.0;
   const double r0 = NsToSeconds(ref.front().stamp);
   const double r1 = NsToSeconds(ref.back().stamp);
-  const double e0 = NsToSeconds(est.front().stamp + offset);
-  const double e1 = NsToSeconds(est.back().stamp + offset);
+  const double e0 = NsToSeconds(est.front().stamp) + offset;
+  const double e1 = NsToSeconds(est.back().stamp) + offset;
   std::string msg = "reference stamps span [" + Seconds(ref.front().stamp) +
                     ", " + Seconds(ref.back().stamp) +
                     "] s, estimate stamps (offset applied) span [" +
@@ -212,16 +360,17 @@ std::string ExplainNoTimestampMatches(const Trajectory& ref,
   // Overlapping but nothing close enough: report the closest difference.
   double closest = std::numeric_limits<double>::infinity();
   for (const auto& p : est) {
-    const TimeNs t = p.stamp + offset;
-    auto it = std::lower_bound(
-        ref.begin(), ref.end(), t,
-        [](const StampedPose& a, TimeNs b) { return a.stamp < b; });
+    const double t = NsToSeconds(p.stamp) + offset;
+    auto it = std::lower_bound(ref.begin(), ref.end(), t,
+                               [](const StampedPose& a, double b) {
+                                 return NsToSeconds(a.stamp) < b;
+                               });
     if (it != ref.end()) {
-      closest = std::min(closest, std::fabs(NsToSeconds(it->stamp - t)));
+      closest = std::min(closest, std::fabs(NsToSeconds(it->stamp) - t));
     }
     if (it != ref.begin()) {
       closest =
-          std::min(closest, std::fabs(NsToSeconds(std::prev(it)->stamp - t)));
+          std::min(closest, std::fabs(NsToSeconds(std::prev(it)->stamp) - t));
     }
   }
   msg += "; the closest pair of stamps is " + Format("%.6f", closest) +
@@ -267,6 +416,11 @@ Pose3 Similarity3::Apply(const Pose3& pose) const {
   return Pose3(Apply(pose.t), Eigen::Quaterniond(rotation) * pose.q);
 }
 
+MatrixPose Similarity3::Apply(const MatrixPose& pose) const {
+  return MatrixPose(rotation * pose.r,
+                    rotation * (scale * pose.t) + translation);
+}
+
 bool UmeyamaAlignment(const std::vector<Eigen::Vector3d>& x,
                       const std::vector<Eigen::Vector3d>& y, bool with_scale,
                       Similarity3* result, std::string* error) {
@@ -275,7 +429,7 @@ bool UmeyamaAlignment(const std::vector<Eigen::Vector3d>& x,
     return false;
   }
   if (x.size() < 2) {
-    *error = "alignment needs at least 3 matched positions (got " +
+    *error = "alignment needs at least 2 matched positions (got " +
              std::to_string(x.size()) + ")";
     return false;
   }
@@ -323,6 +477,14 @@ bool UmeyamaAlignment(const std::vector<Eigen::Vector3d>& x,
 bool ComputeAlignment(const std::vector<Pose3>& ref,
                       const std::vector<Pose3>& est, AlignmentMethod method,
                       int n_to_align, Similarity3* result, std::string* error) {
+  return ComputeAlignment(ToMatrixPoses(ref), ToMatrixPoses(est), method,
+                          n_to_align, result, error);
+}
+
+bool ComputeAlignment(const std::vector<MatrixPose>& ref,
+                      const std::vector<MatrixPose>& est,
+                      AlignmentMethod method, int n_to_align,
+                      Similarity3* result, std::string* error) {
   *result = Similarity3();
   if (ref.size() != est.size()) {
     *error = "alignment needs matched trajectories of equal size";
@@ -334,9 +496,9 @@ bool ComputeAlignment(const std::vector<Pose3>& ref,
     return false;
   }
   if (method == AlignmentMethod::kOrigin) {
-    // T = P_ref,0 * P_est,0^-1, applied on the left.
-    const Pose3 t = ref[0] * est[0].Inverse();
-    result->rotation = t.q.toRotationMatrix();
+    // T = P_ref,0 * P_est,0^-1 (evo's se3_inverse), applied on the left.
+    const MatrixPose t = ref[0] * est[0].TransposeInverse();
+    result->rotation = t.r;
     result->translation = t.t;
     result->scale = 1.0;
     return true;
@@ -360,6 +522,14 @@ bool ComputeAlignment(const std::vector<Pose3>& ref,
   return true;
 }
 
+std::vector<MatrixPose> ApplyAlignment(const Similarity3& transform,
+                                       const std::vector<MatrixPose>& poses) {
+  std::vector<MatrixPose> out;
+  out.reserve(poses.size());
+  for (const MatrixPose& p : poses) out.push_back(transform.Apply(p));
+  return out;
+}
+
 std::vector<Pose3> ApplyAlignment(const Similarity3& transform,
                                   const std::vector<Pose3>& poses) {
   std::vector<Pose3> out;
@@ -374,20 +544,74 @@ double RotationAngle(const Eigen::Quaterniond& q) {
   return 2.0 * std::atan2(q.vec().norm(), std::fabs(q.w()));
 }
 
-std::vector<double> ApeTranslationErrors(const std::vector<Pose3>& ref,
-                                         const std::vector<Pose3>& est) {
+double RotationAngleOfMatrix(const Eigen::Matrix3d& m) {
+  // scipy Rotation.from_matrix (Markley 2008): the branch of the largest of
+  // the diagonal entries and the trace, then normalization.
+  const double trace = m(0, 0) + m(1, 1) + m(2, 2);
+  int choice = 3;
+  double largest = trace;
+  for (int i = 0; i < 3; ++i) {
+    if (m(i, i) > largest) {
+      largest = m(i, i);
+      choice = i;
+    }
+  }
+  double q[4];  // x, y, z, w.
+  if (choice != 3) {
+    const int i = choice, j = (i + 1) % 3, k = (j + 1) % 3;
+    q[i] = 1.0 - trace + 2.0 * m(i, i);
+    q[j] = m(j, i) + m(i, j);
+    q[k] = m(k, i) + m(i, k);
+    q[3] = m(k, j) - m(j, k);
+  } else {
+    q[0] = m(2, 1) - m(1, 2);
+    q[1] = m(0, 2) - m(2, 0);
+    q[2] = m(1, 0) - m(0, 1);
+    q[3] = 1.0 + trace;
+  }
+  const double norm =
+      std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+  for (double& x : q) x /= norm;
+  // as_rotvec: w >= 0, angle = 2 atan2(|v|, w), rotvec = angle / sin(angle
+  // / 2) * v (a series near 0); the angle returned is |rotvec|.
+  if (q[3] < 0.0) {
+    for (double& x : q) x = -x;
+  }
+  const double v = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]);
+  const double angle = 2.0 * std::atan2(v, q[3]);
+  const double a2 = angle * angle;
+  const double scale = angle <= 1e-3 ? 2.0 + a2 / 12.0 + 7.0 * a2 * a2 / 2880.0
+                                     : angle / std::sin(angle / 2.0);
+  const double x = scale * q[0], y = scale * q[1], z = scale * q[2];
+  return std::sqrt(x * x + y * y + z * z);
+}
+
+std::vector<double> ApeTranslationErrors(const std::vector<MatrixPose>& ref,
+                                         const std::vector<MatrixPose>& est) {
   std::vector<double> e(std::min(ref.size(), est.size()));
   for (size_t i = 0; i < e.size(); ++i) e[i] = (est[i].t - ref[i].t).norm();
   return e;
 }
 
-std::vector<double> ApeRotationErrorsDeg(const std::vector<Pose3>& ref,
+std::vector<double> ApeTranslationErrors(const std::vector<Pose3>& ref,
                                          const std::vector<Pose3>& est) {
+  return ApeTranslationErrors(ToMatrixPoses(ref), ToMatrixPoses(est));
+}
+
+std::vector<double> ApeRotationErrorsDeg(const std::vector<MatrixPose>& ref,
+                                         const std::vector<MatrixPose>& est) {
   std::vector<double> e(std::min(ref.size(), est.size()));
   for (size_t i = 0; i < e.size(); ++i) {
-    e[i] = RotationAngle(est[i].q.conjugate() * ref[i].q) * 180.0 / M_PI;
+    // evo: so3_log_angle of (P_est^-1 P_ref)'s 3x3 block, in degrees.
+    e[i] =
+        RotationAngleOfMatrix(est[i].r.transpose() * ref[i].r) * 180.0 / M_PI;
   }
   return e;
+}
+
+std::vector<double> ApeRotationErrorsDeg(const std::vector<Pose3>& ref,
+                                         const std::vector<Pose3>& est) {
+  return ApeRotationErrorsDeg(ToMatrixPoses(ref), ToMatrixPoses(est));
 }
 
 const char* DeltaUnitName(DeltaUnit unit) {
@@ -464,6 +688,13 @@ bool SelectRpePairs(const std::vector<Pose3>& poses,
                     const std::vector<TimeNs>& stamps,
                     const RpeOptions& options, IndexPairs* pairs,
                     std::string* error) {
+  return SelectRpePairs(ToMatrixPoses(poses), stamps, options, pairs, error);
+}
+
+bool SelectRpePairs(const std::vector<MatrixPose>& poses,
+                    const std::vector<TimeNs>& stamps,
+                    const RpeOptions& options, IndexPairs* pairs,
+                    std::string* error) {
   pairs->clear();
   const size_t n = poses.size();
   if (!(options.delta > 0.0) || !std::isfinite(options.delta)) {
@@ -476,6 +707,9 @@ bool SelectRpePairs(const std::vector<Pose3>& poses,
         *error = "the RPE delta must be an integer for the unit frames";
         return false;
       }
+      // A delta of n frames or more gives no pair (and would not fit a
+      // size_t from 2^64 on).
+      if (options.delta >= static_cast<double>(n)) break;
       const size_t d = static_cast<size_t>(options.delta);
       if (options.all_pairs) {
         for (size_t i = 0; i + d < n; ++i) pairs->emplace_back(i, i + d);
@@ -518,15 +752,23 @@ bool SelectRpePairs(const std::vector<Pose3>& poses,
       if (options.all_pairs) {
         std::vector<double> t(n);
         for (size_t i = 0; i < n; ++i) {
-          t[i] = NsToSeconds(stamps[i] - stamps[0]);
+          t[i] = SecondsBetween(stamps[0], stamps[i]);
         }
         *pairs = ClosestDeltaPairs(t, options.delta,
                                    options.delta * options.rel_delta_tol);
       } else {
-        const TimeNs d = SecondsToNs(options.delta);
+        // A delta longer than the whole trajectory gives no pair (and would
+        // overflow int64 nanoseconds from about 9.2e9 s on).
+        if (n == 0 ||
+            options.delta > SecondsBetween(stamps[0], stamps.back())) {
+          break;
+        }
+        // In 128 bits: the span of int64 stamps exceeds int64.
+        const __int128 d =
+            static_cast<__int128>(std::round(options.delta * 1e9));
         size_t start = 0;
         for (size_t j = 1; j < n; ++j) {
-          if (stamps[j] - stamps[start] >= d) {
+          if (static_cast<__int128>(stamps[j]) - stamps[start] >= d) {
             pairs->emplace_back(start, j);
             start = j;
           }
@@ -550,6 +792,16 @@ bool ComputeRpe(const std::vector<Pose3>& ref, const std::vector<Pose3>& est,
                 const std::vector<TimeNs>& est_stamps,
                 const RpeOptions& options, RpeErrors* errors,
                 std::string* error) {
+  return ComputeRpe(ToMatrixPoses(ref), ToMatrixPoses(est), ref_stamps,
+                    est_stamps, options, errors, error);
+}
+
+bool ComputeRpe(const std::vector<MatrixPose>& ref,
+                const std::vector<MatrixPose>& est,
+                const std::vector<TimeNs>& ref_stamps,
+                const std::vector<TimeNs>& est_stamps,
+                const RpeOptions& options, RpeErrors* errors,
+                std::string* error) {
   *errors = RpeErrors();
   if (ref.size() != est.size()) {
     *error = "RPE needs matched trajectories of equal size";
@@ -563,17 +815,24 @@ bool ComputeRpe(const std::vector<Pose3>& ref, const std::vector<Pose3>& est,
   errors->translation.reserve(errors->pairs.size());
   errors->rotation_deg.reserve(errors->pairs.size());
   for (const auto& [i, j] : errors->pairs) {
-    const Pose3 q_rel = Between(ref[i], ref[j]);
-    const Pose3 p_rel = Between(est[i], est[j]);
-    const Pose3 e = Between(q_rel, p_rel);
+    const MatrixPose q_rel = Between(ref[i], ref[j]);
+    const MatrixPose p_rel = Between(est[i], est[j]);
+    const MatrixPose e = Between(q_rel, p_rel);
     errors->translation.push_back(e.t.norm());
-    errors->rotation_deg.push_back(RotationAngle(e.q) * 180.0 / M_PI);
+    errors->rotation_deg.push_back(RotationAngleOfMatrix(e.r) * 180.0 / M_PI);
   }
   return true;
 }
 
 bool ComputeKittiMetric(const std::vector<Pose3>& ref,
                         const std::vector<Pose3>& est, KittiMetric* metric,
+                        std::string* error) {
+  return ComputeKittiMetric(ToMatrixPoses(ref), ToMatrixPoses(est), metric,
+                            error);
+}
+
+bool ComputeKittiMetric(const std::vector<MatrixPose>& ref,
+                        const std::vector<MatrixPose>& est, KittiMetric* metric,
                         std::string* error) {
   *metric = KittiMetric();
   if (ref.size() != est.size()) {
@@ -606,10 +865,11 @@ bool ComputeKittiMetric(const std::vector<Pose3>& ref,
         }
       }
       if (last == ref.size()) continue;
-      const Pose3 delta_gt = Between(ref[first], ref[last]);
-      const Pose3 delta_result = Between(est[first], est[last]);
-      const Pose3 pose_error = Between(delta_result, delta_gt);
-      const Eigen::Matrix3d r = pose_error.q.toRotationMatrix();
+      // The devkit inverts the 4x4 matrices as they are (Matrix::inv).
+      const MatrixPose delta_gt = ref[first].Inverse() * ref[last];
+      const MatrixPose delta_result = est[first].Inverse() * est[last];
+      const MatrixPose pose_error = delta_result.Inverse() * delta_gt;
+      const Eigen::Matrix3d& r = pose_error.r;
       // Devkit rotationError / translationError, in float as there.
       const float a = static_cast<float>(r(0, 0));
       const float b = static_cast<float>(r(1, 1));
@@ -656,7 +916,7 @@ bool ComputeKittiMetric(const std::vector<Pose3>& ref,
   return true;
 }
 
-double PathLength(const std::vector<Pose3>& poses) {
+double PathLength(const std::vector<MatrixPose>& poses) {
   double length = 0.0;
   for (size_t i = 1; i < poses.size(); ++i) {
     length += (poses[i].t - poses[i - 1].t).norm();
@@ -664,9 +924,20 @@ double PathLength(const std::vector<Pose3>& poses) {
   return length;
 }
 
+double PathLength(const std::vector<Pose3>& poses) {
+  return PathLength(ToMatrixPoses(poses));
+}
+
 // ------------------------------------------------------------- whole pipeline
 
 bool EvaluateTrajectories(const Trajectory& ref, const Trajectory& est,
+                          const EvalSettings& settings, EvalResult* result,
+                          std::string* error) {
+  return EvaluateTrajectories(ToEvalTrajectory(ref), ToEvalTrajectory(est),
+                              settings, result, error);
+}
+
+bool EvaluateTrajectories(const EvalTrajectory& ref, const EvalTrajectory& est,
                           const EvalSettings& settings, EvalResult* result,
                           std::string* error) {
   *result = EvalResult();
@@ -679,25 +950,33 @@ bool EvaluateTrajectories(const Trajectory& ref, const Trajectory& est,
     return false;
   }
   if (settings.association == AssociationMethod::kIndex) {
-    if (!AssociateByIndex(ref, est, &result->association, error)) return false;
+    if (!AssociateBySize(ref.size(), est.size(), &result->association, error)) {
+      return false;
+    }
   } else {
+    if (!CheckAssociationOptions(settings.sync, error)) return false;
     result->association = AssociateByTimestamp(ref, est, settings.sync);
     if (result->association.size() == 0) {
       *error =
           "found no matching timestamps between the reference and the "
           "estimate with max. time diff " +
           Format("%g", settings.sync.t_max_diff) + " s and time offset " +
-          Format("%g", settings.sync.t_offset) +
-          " s: " + ExplainNoTimestampMatches(ref, est, settings.sync);
+          Format("%g", settings.sync.t_offset) + " s: " +
+          ExplainNoTimestampMatches(StampsOnly(ref), StampsOnly(est),
+                                    settings.sync);
       return false;
     }
   }
   const Association& a = result->association;
+  result->ref.reserve(a.size());
+  result->ref_stamps.reserve(a.size());
+  result->est.reserve(a.size());
+  result->est_stamps.reserve(a.size());
   for (size_t k = 0; k < a.size(); ++k) {
-    result->ref.push_back(ref[a.ref_indices[k]].pose);
-    result->ref_stamps.push_back(ref[a.ref_indices[k]].stamp);
-    result->est.push_back(est[a.est_indices[k]].pose);
-    result->est_stamps.push_back(est[a.est_indices[k]].stamp);
+    result->ref.push_back(ref.poses[a.ref_indices[k]]);
+    result->ref_stamps.push_back(ref.stamps[a.ref_indices[k]]);
+    result->est.push_back(est.poses[a.est_indices[k]]);
+    result->est_stamps.push_back(est.stamps[a.est_indices[k]]);
   }
   if (!ComputeAlignment(result->ref, result->est, settings.align,
                         settings.n_to_align, &result->alignment, error)) {
@@ -727,8 +1006,13 @@ bool EvaluateTrajectories(const Trajectory& ref, const Trajectory& est,
 
   if (settings.kitti) {
     result->has_kitti = true;
-    if (!ComputeKittiMetric(result->ref, result->est_aligned, &result->kitti,
-                            error)) {
+    // The devkit does not align; a rigid alignment leaves relative poses
+    // unchanged, so only a scale correction is applied (see the header).
+    const bool scaled = settings.align == AlignmentMethod::kSim3 ||
+                        settings.align == AlignmentMethod::kScale;
+    if (!ComputeKittiMetric(result->ref,
+                            scaled ? result->est_aligned : result->est,
+                            &result->kitti, error)) {
       return false;
     }
   }

@@ -9,16 +9,21 @@
 //   matching_time_indices): start from the trajectory with FEWER poses (the
 //   estimate when both have as many); for each of its stamps take the stamp
 //   of the other trajectory, shifted by the offset (the offset is added to
-//   the ESTIMATE's stamps), with the smallest |difference| (first one on a
-//   tie) and keep the pair when that difference is <= t_max_diff (default
-//   0.01 s). evo stops there; a pose of the longer trajectory may then be
-//   matched twice when t_max_diff exceeds half its sampling interval. We keep
-//   the pairs one-to-one: of pairs that share a pose, the one with the
-//   smallest |difference| stays (the earliest on a tie) and the others are
-//   counted in Association::dropped_duplicates (0 whenever evo's result is
-//   already one-to-one, which is the normal case: then both are identical).
-//   Stamps are int64 nanoseconds here (evo: float seconds), which only
-//   matters for differences within a nanosecond of t_max_diff.
+//   the ESTIMATE's stamps: evo adds it to the longer trajectory's stamps, or
+//   subtracts it from the reference's when the estimate is the shorter one),
+//   with the smallest |difference| (the first one on a tie, as numpy's
+//   argmin, i.e. the first in file order) and keep the pair when that
+//   difference is <= t_max_diff (default 0.01 s); stamps need not be sorted. As
+//   evo, the stamps are compared as float64 seconds (EvalTrajectory::seconds,
+//   the values evo parses from the file), so a stamp exactly halfway between
+//   two others goes where evo's rounding puts it, and duplicate stamps are
+//   allowed (the first of equal stamps wins). As evo, a pose of the longer
+//   trajectory may be paired twice when t_max_diff is at least half its
+//   sampling interval (Association::reused_poses counts such pairs).
+//   unique_pairs (slam eval
+//   --unique_pairs; a deviation from evo) keeps pairs one-to-one instead: of
+//   pairs that share a pose, the one with the smallest |difference| stays
+//   (the earliest on a tie); the others are counted in dropped_duplicates.
 // Association by index: pose i with pose i; both must have as many poses
 //   (evo raises "trajectories must have same number of poses").
 //
@@ -35,10 +40,17 @@
 //   -a). kOrigin: T = P_ref,0 P_est,0^-1 applied on the left (evo
 //   --align_origin).
 //
+// Poses are used as read (MatrixPose): a KITTI file's 3x3 blocks are not
+//   exactly rotations (7 significant digits), and evo and the devkit use them
+//   as they are; inverses are evo's se3_inverse [R^T | -R^T t] (the devkit's
+//   KITTI metric: the true matrix inverse). A rotation is extracted only
+//   where an angle is needed, as evo does (scipy Rotation.from_matrix: the
+//   quaternion of Markley's four-branch method, normalized; RotationAngleDeg).
+//   TUM/EuRoC quaternions are normalized and turned into matrices as evo
+//   (transformations.quaternion_matrix).
 // APE (evo core/metrics.py, class APE), per matched pose i:
 //   translation part: |t_est,i - t_ref,i| (metres);
-//   rotation angle: angle of E_i = P_est,i^-1 P_ref,i in degrees (the angle of
-//   the rotation vector, in [0, 180]; E_i^-1 = P_ref^-1 P_est has the same).
+//   rotation angle: angle of E_i = P_est,i^-1 P_ref,i in degrees.
 // RPE (evo core/metrics.py, class RPE, after the TUM RGB-D benchmark), per
 //   index pair (i, j): E = (Q_i^-1 Q_j)^-1 (P_i^-1 P_j) with Q the reference
 //   and P the (aligned) estimate; translation part |t(E)|, rotation angle of
@@ -75,7 +87,10 @@
 //   t_rel_percent = 100 mean(t_err), r_rel_deg_per_100m = mean(r_err) * 180
 //   / pi * 100. The devkit computes distances, the per-segment errors and
 //   their sums in single precision (float); we do the same, so that segment
-//   choice and rounding follow the devkit's.
+//   choice and rounding follow the devkit's. The devkit never aligns: the
+//   metric uses the estimate as read, except with a scale alignment (sim3,
+//   scale), where it uses the scaled estimate (rigid alignments do not change
+//   relative poses).
 #ifndef SLAM_CORE_EVALUATION_H_
 #define SLAM_CORE_EVALUATION_H_
 
@@ -85,12 +100,57 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/LU>
 
 #include "core/conventions.h"
 #include "core/lie.h"
 #include "core/trajectory.h"
 
 namespace slam {
+
+// ------------------------------------------------------------------- poses
+// A pose as evo holds it (a 4x4 matrix): the 3x3 block as given, not
+// re-orthonormalized, and the translation.
+struct MatrixPose {
+  Eigen::Matrix3d r = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d t = Eigen::Vector3d::Zero();
+
+  MatrixPose() = default;
+  MatrixPose(const Eigen::Matrix3d& rr, const Eigen::Vector3d& tt)
+      : r(rr), t(tt) {}
+  // The unit quaternion's matrix as evo's transformations.quaternion_matrix.
+  explicit MatrixPose(const Pose3& pose);
+
+  MatrixPose operator*(const MatrixPose& o) const {
+    return MatrixPose(r * o.r, r * o.t + t);
+  }
+  // evo's se3_inverse: [R^T | -R^T t] (the transpose, not the inverse).
+  MatrixPose TransposeInverse() const {
+    const Eigen::Matrix3d rt = r.transpose();
+    return MatrixPose(rt, -(rt * t));
+  }
+  // The true inverse of the 4x4 matrix (the KITTI devkit's Matrix::inv).
+  MatrixPose Inverse() const {
+    const Eigen::Matrix3d ri = r.inverse();
+    return MatrixPose(ri, -(ri * t));
+  }
+};
+std::vector<MatrixPose> ToMatrixPoses(const std::vector<Pose3>& poses);
+
+// A trajectory as the evaluation reads it: stamps in nanoseconds, the same
+// stamps as evo's float64 seconds, and the poses as read.
+struct EvalTrajectory {
+  std::vector<TimeNs> stamps;
+  std::vector<double> seconds;
+  std::vector<MatrixPose> poses;
+  size_t size() const { return poses.size(); }
+  bool empty() const { return poses.empty(); }
+};
+// The double nearest to ns * 1e-9 (what Python's float() gives for a stamp
+// written with up to nine decimals).
+double NearestSeconds(TimeNs ns);
+// Seconds by NearestSeconds, quaternions as MatrixPose(Pose3).
+EvalTrajectory ToEvalTrajectory(const Trajectory& trajectory);
 
 // ---------------------------------------------------------------- statistics
 struct ErrorStatistics {
@@ -108,9 +168,14 @@ ErrorStatistics ComputeErrorStatistics(const std::vector<double>& errors);
 
 // --------------------------------------------------------------- association
 struct AssociationOptions {
-  double t_max_diff = 0.01;  // Seconds.
-  double t_offset = 0.0;     // Seconds, added to the estimate's stamps.
+  double t_max_diff = 0.01;   // Seconds.
+  double t_offset = 0.0;      // Seconds, added to the estimate's stamps.
+  bool unique_pairs = false;  // One-to-one pairs (not evo's behaviour).
 };
+// False with a message for a negative or NaN t_max_diff or a non-finite
+// t_offset.
+bool CheckAssociationOptions(const AssociationOptions& options,
+                             std::string* error);
 
 struct Association {
   bool by_index = false;
@@ -118,12 +183,17 @@ struct Association {
   std::vector<size_t> ref_indices;
   std::vector<size_t> est_indices;
   size_t max_pairs = 0;           // Poses of the shorter trajectory.
-  size_t dropped_duplicates = 0;  // Pairs removed to keep pairs one-to-one.
+  size_t reused_poses = 0;        // Pairs whose pose of the longer
+                                  // trajectory is also in an earlier pair.
+  size_t dropped_duplicates = 0;  // unique_pairs: pairs removed.
   double max_abs_dt = 0.0;        // Largest |t_est + offset - t_ref| (s).
   size_t size() const { return ref_indices.size(); }
 };
 
-// Both trajectories must have strictly increasing stamps.
+// Stamps in any order (as evo); options must pass CheckAssociationOptions.
+Association AssociateByTimestamp(const EvalTrajectory& ref,
+                                 const EvalTrajectory& est,
+                                 const AssociationOptions& options);
 Association AssociateByTimestamp(const Trajectory& ref, const Trajectory& est,
                                  const AssociationOptions& options);
 // False with a message when the pose counts differ.
@@ -151,6 +221,8 @@ struct Similarity3 {
   }
   // Position scaled, rotated and moved; orientation rotated.
   Pose3 Apply(const Pose3& pose) const;
+  // As evo's scale() then transform(): R' = R_a R, t' = R_a (c t) + t_a.
+  MatrixPose Apply(const MatrixPose& pose) const;
 };
 
 // Least-squares y_i ~ c R x_i + t (Umeyama 1991, as evo). with_scale false:
@@ -162,18 +234,31 @@ bool UmeyamaAlignment(const std::vector<Eigen::Vector3d>& x,
 
 // The transform that aligns `est` onto `ref` (matched, same size) with
 // `method`; n_to_align > 0 restricts Umeyama to the first n pairs (<= 0: all).
+bool ComputeAlignment(const std::vector<MatrixPose>& ref,
+                      const std::vector<MatrixPose>& est,
+                      AlignmentMethod method, int n_to_align,
+                      Similarity3* result, std::string* error);
 bool ComputeAlignment(const std::vector<Pose3>& ref,
                       const std::vector<Pose3>& est, AlignmentMethod method,
                       int n_to_align, Similarity3* result, std::string* error);
+std::vector<MatrixPose> ApplyAlignment(const Similarity3& transform,
+                                       const std::vector<MatrixPose>& poses);
 std::vector<Pose3> ApplyAlignment(const Similarity3& transform,
                                   const std::vector<Pose3>& poses);
 
 // -------------------------------------------------------------------- metrics
 // Rotation angle of a unit quaternion, radians in [0, pi].
 double RotationAngle(const Eigen::Quaterniond& q);
+// Rotation angle of a 3x3 matrix that is a rotation up to rounding, as evo's
+// so3_log_angle (scipy: Markley's quaternion, normalized, then |rotvec|).
+double RotationAngleOfMatrix(const Eigen::Matrix3d& m);
 
+std::vector<double> ApeTranslationErrors(const std::vector<MatrixPose>& ref,
+                                         const std::vector<MatrixPose>& est);
 std::vector<double> ApeTranslationErrors(const std::vector<Pose3>& ref,
                                          const std::vector<Pose3>& est);
+std::vector<double> ApeRotationErrorsDeg(const std::vector<MatrixPose>& ref,
+                                         const std::vector<MatrixPose>& est);
 std::vector<double> ApeRotationErrorsDeg(const std::vector<Pose3>& ref,
                                          const std::vector<Pose3>& est);
 
@@ -194,7 +279,12 @@ using IndexPairs = std::vector<std::pair<size_t, size_t>>;
 
 // Index pairs (i, j), i < j, for `options` on one trajectory (positions for
 // metres, stamps for seconds; `stamps` may be empty otherwise). False with a
-// message for a bad delta or when no pair results.
+// message for a bad delta or when no pair results (also for a delta longer
+// than the trajectory, however large).
+bool SelectRpePairs(const std::vector<MatrixPose>& poses,
+                    const std::vector<TimeNs>& stamps,
+                    const RpeOptions& options, IndexPairs* pairs,
+                    std::string* error);
 bool SelectRpePairs(const std::vector<Pose3>& poses,
                     const std::vector<TimeNs>& stamps,
                     const RpeOptions& options, IndexPairs* pairs,
@@ -208,6 +298,12 @@ struct RpeErrors {
 // ref/est matched (same size); ref_stamps/est_stamps are needed only for the
 // seconds unit (pairs come from the stamps of the trajectory they are
 // selected on).
+bool ComputeRpe(const std::vector<MatrixPose>& ref,
+                const std::vector<MatrixPose>& est,
+                const std::vector<TimeNs>& ref_stamps,
+                const std::vector<TimeNs>& est_stamps,
+                const RpeOptions& options, RpeErrors* errors,
+                std::string* error);
 bool ComputeRpe(const std::vector<Pose3>& ref, const std::vector<Pose3>& est,
                 const std::vector<TimeNs>& ref_stamps,
                 const std::vector<TimeNs>& est_stamps,
@@ -236,11 +332,15 @@ struct KittiMetric {
   std::vector<KittiSegmentError> segments;
 };
 // ref/est matched (same size), frame k of both at index k.
+bool ComputeKittiMetric(const std::vector<MatrixPose>& ref,
+                        const std::vector<MatrixPose>& est, KittiMetric* metric,
+                        std::string* error);
 bool ComputeKittiMetric(const std::vector<Pose3>& ref,
                         const std::vector<Pose3>& est, KittiMetric* metric,
                         std::string* error);
 
 // Sum of distances between consecutive positions.
+double PathLength(const std::vector<MatrixPose>& poses);
 double PathLength(const std::vector<Pose3>& poses);
 
 // ------------------------------------------------------ relation-based error
@@ -327,9 +427,9 @@ struct EvalResult {
   // without the offset).
   std::vector<TimeNs> ref_stamps;
   std::vector<TimeNs> est_stamps;
-  std::vector<Pose3> ref;
-  std::vector<Pose3> est;          // As read.
-  std::vector<Pose3> est_aligned;  // After the alignment.
+  std::vector<MatrixPose> ref;
+  std::vector<MatrixPose> est;          // As read.
+  std::vector<MatrixPose> est_aligned;  // After the alignment.
   Similarity3 alignment;
   double ref_path_length = 0.0;  // Of the matched poses.
   double est_path_length = 0.0;  // Of the matched, aligned poses.
@@ -350,6 +450,9 @@ struct EvalResult {
 // Associates, aligns and computes APE, RPE (and the KITTI metric when asked).
 // False with a message (no matching stamps and why, too few pairs, a
 // degenerate alignment, no RPE pair for the delta).
+bool EvaluateTrajectories(const EvalTrajectory& ref, const EvalTrajectory& est,
+                          const EvalSettings& settings, EvalResult* result,
+                          std::string* error);
 bool EvaluateTrajectories(const Trajectory& ref, const Trajectory& est,
                           const EvalSettings& settings, EvalResult* result,
                           std::string* error);

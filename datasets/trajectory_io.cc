@@ -13,10 +13,16 @@
 #include <sstream>
 #include <vector>
 
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <Eigen/SVD>
 
 #include "datasets/atomic_file.h"
 #include "datasets/g2o_io.h"
+#include "datasets/text_util.h"
 
 namespace slam {
 namespace {
@@ -30,15 +36,8 @@ bool ReadWholeFile(const std::string& path, std::string* content,
     *error = path + ": is a directory, not a trajectory file";
     return false;
   }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    *error = path + ": cannot open (" + std::strerror(errno) + ")";
-    return false;
-  }
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  *content = ss.str();
-  return true;
+  // One read into a string of the file's size (no stream copies).
+  return text::ReadWholeFile(path, content, error);
 }
 
 // Calls fn(line_number, line) for every line (without '\n' or '\r').
@@ -143,20 +142,63 @@ bool MakeQuaternion(double x, double y, double z, double w,
   return true;
 }
 
-// Stamps must increase strictly; `lines` holds the line of each stamp.
+// What a reader returns besides the poses (see TrajectoryData).
+struct ReadExtras {
+  bool allow_duplicate_stamps = false;
+  bool allow_unsorted_stamps = false;
+  std::vector<double> seconds;            // Stamps as parsed (float64 s).
+  std::vector<Eigen::Matrix3d> matrices;  // KITTI: 3x3 blocks as read.
+  size_t duplicate_stamps = 0;
+  size_t unsorted_stamps = 0;
+  std::string warning;
+};
+
+// Stamps must increase strictly. With extras->allow_duplicate_stamps an
+// equal stamp, with extras->allow_unsorted_stamps a smaller one, is counted
+// and described in extras->warning instead. `lines`: the line of each stamp.
 bool CheckIncreasing(const Trajectory& t, const std::vector<int>& lines,
-                     const std::string& path, std::string* error) {
+                     const std::string& path, ReadExtras* extras,
+                     std::string* error) {
+  std::string first_duplicate, first_unsorted;
   for (size_t i = 1; i < t.size(); ++i) {
-    if (t[i].stamp <= t[i - 1].stamp) {
-      *error = Where(path, lines[i]) + "timestamp " +
-               FormatStampSeconds(t[i].stamp) + " s is " +
-               (t[i].stamp == t[i - 1].stamp ? "a duplicate of" : "before") +
-               " the one on line " + std::to_string(lines[i - 1]) + " (" +
-               FormatStampSeconds(t[i - 1].stamp) +
-               " s): stamps must increase strictly (sort the file and "
-               "remove duplicates)";
-      return false;
+    if (t[i].stamp > t[i - 1].stamp) continue;
+    const bool duplicate = t[i].stamp == t[i - 1].stamp;
+    const std::string what = Where(path, lines[i]) + "timestamp " +
+                             FormatStampSeconds(t[i].stamp) + " s is " +
+                             (duplicate ? "a duplicate of" : "before") +
+                             " the one on line " + std::to_string(lines[i - 1]);
+    if (extras != nullptr && duplicate && extras->allow_duplicate_stamps) {
+      if (extras->duplicate_stamps++ == 0) first_duplicate = what;
+      continue;
     }
+    if (extras != nullptr && !duplicate && extras->allow_unsorted_stamps) {
+      if (extras->unsorted_stamps++ == 0) first_unsorted = what;
+      continue;
+    }
+    *error = what + " (" + FormatStampSeconds(t[i - 1].stamp) +
+             " s): stamps must increase strictly (sort the file and "
+             "remove duplicates)";
+    return false;
+  }
+  if (extras == nullptr) return true;
+  auto describe = [](size_t count, const char* kind, const std::string& first) {
+    return std::to_string(count) + " " + kind + (count > 1 ? "s" : "") +
+           " (first: " + first + ")";
+  };
+  std::string parts;
+  if (extras->duplicate_stamps > 0) {
+    parts =
+        describe(extras->duplicate_stamps, "duplicate stamp", first_duplicate);
+  }
+  if (extras->unsorted_stamps > 0) {
+    parts +=
+        (parts.empty() ? "" : ", ") +
+        describe(extras->unsorted_stamps, "decreasing stamp", first_unsorted);
+  }
+  if (!parts.empty()) {
+    extras->warning = parts +
+                      "; kept in file order, as evo does: a stamp is matched "
+                      "to the first pose (in the file) with the nearest stamp";
   }
   return true;
 }
@@ -228,7 +270,9 @@ std::string FormatStampSeconds(TimeNs stamp) {
   return buf;
 }
 
-bool ParseStampSeconds(const std::string& text, TimeNs* stamp) {
+namespace {
+
+bool ParseStampSecondsView(std::string_view text, TimeNs* stamp) {
   if (text.empty()) return false;
   size_t i = 0;
   bool negative = false;
@@ -273,9 +317,17 @@ bool ParseStampSeconds(const std::string& text, TimeNs* stamp) {
   }
   // Exponent notation (or huge): through double.
   double value = 0.0;
-  if (!ParseDouble(text, &value) || std::fabs(value) > 9.2e9) return false;
+  if (!slam::text::ParseDouble(text, &value) || std::fabs(value) > 9.2e9) {
+    return false;
+  }
   *stamp = SecondsToNs(value);
   return true;
+}
+
+}  // namespace
+
+bool ParseStampSeconds(const std::string& text, TimeNs* stamp) {
+  return ParseStampSecondsView(text, stamp);
 }
 
 bool DetectTrajectoryFormat(const std::string& path, TrajectoryFormat* format,
@@ -341,69 +393,165 @@ bool DetectTrajectoryFormat(const std::string& path, TrajectoryFormat* format,
   return false;
 }
 
-bool ReadTumTrajectory(const std::string& path, Trajectory* trajectory,
-                       std::string* error) {
+namespace {
+
+// The text of a file: a read-only mapping of a regular file (no copy, no
+// freshly zeroed pages: a third of the time of reading a million poses),
+// else (a pipe, an empty file) the bytes read into a string.
+class FileText {
+ public:
+  FileText() = default;
+  FileText(const FileText&) = delete;
+  FileText& operator=(const FileText&) = delete;
+  ~FileText() {
+    if (map_ != nullptr) ::munmap(map_, size_);
+  }
+
+  bool Open(const std::string& path, std::string* error) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec)) {
+      *error = path + ": is a directory, not a trajectory file";
+      return false;
+    }
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    struct stat st;
+    if (fd >= 0 && ::fstat(fd, &st) == 0 && S_ISREG(st.st_mode) &&
+        st.st_size > 0) {
+      void* map = ::mmap(nullptr, static_cast<size_t>(st.st_size), PROT_READ,
+                         MAP_PRIVATE | MAP_POPULATE, fd, 0);
+      if (map != MAP_FAILED) {
+        ::close(fd);
+        map_ = map;
+        size_ = static_cast<size_t>(st.st_size);
+        return true;
+      }
+    }
+    if (fd >= 0) ::close(fd);
+    return text::ReadWholeFile(path, &owned_, error);
+  }
+  std::string_view view() const {
+    return map_ != nullptr
+               ? std::string_view(static_cast<const char*>(map_), size_)
+               : std::string_view(owned_);
+  }
+
+ private:
+  void* map_ = nullptr;
+  size_t size_ = 0;
+  std::string owned_;
+};
+
+// Room for one pose per line, so that the arrays of a large file are
+// allocated once (growing them copies and faults in every page again).
+void ReserveForLines(std::string_view content, Trajectory* trajectory,
+                     std::vector<int>* lines, ReadExtras* extras) {
+  const size_t n =
+      static_cast<size_t>(std::count(content.begin(), content.end(), '\n')) + 1;
+  trajectory->reserve(n);
+  if (lines != nullptr) lines->reserve(n);
+  if (extras != nullptr) extras->seconds.reserve(n);
+}
+
+// "field 3 ('abc') is not a finite number".
+std::string BadField(size_t index, std::string_view token) {
+  return "field " + std::to_string(index + 1) + " ('" + text::Printable(token) +
+         "') is not a finite number";
+}
+
+// Parses tokens[first, first + count) as doubles; names the bad one.
+bool ParseFields(const std::vector<std::string_view>& tokens, size_t first,
+                 size_t count, double* out, const std::string& path, int line,
+                 std::string* error) {
+  for (size_t i = 0; i < count; ++i) {
+    if (!text::ParseDouble(tokens[first + i], &out[i])) {
+      *error = Where(path, line) + BadField(first + i, tokens[first + i]);
+      return false;
+    }
+  }
+  return true;
+}
+
+bool ReadTum(const std::string& path, Trajectory* trajectory,
+             ReadExtras* extras, std::string* error) {
   trajectory->clear();
-  std::string content;
-  if (!ReadWholeFile(path, &content, error)) return false;
+  FileText file;
+  if (!file.Open(path, error)) return false;
+  const std::string_view content = file.view();
   std::vector<int> lines;
-  const bool ok = ForEachLine(content, [&](int n, const std::string& line) {
-    if (IsSkippable(line)) return true;
-    const std::string where = Where(path, n);
-    const std::vector<std::string> tokens = SplitWhitespace(line);
+  ReserveForLines(content, trajectory, &lines, extras);
+  // The number parser of the pose-graph readers (std::from_chars); lines
+  // and '#' comments as there.
+  text::LineTokenizer tokenizer(content);
+  while (tokenizer.Next()) {
+    const int n = static_cast<int>(tokenizer.line());
+    const std::vector<std::string_view>& tokens = tokenizer.tokens();
     if (tokens.size() != 8) {
-      *error = where + "expected 8 values (t x y z qx qy qz qw), found " +
+      *error = Where(path, n) +
+               "expected 8 values (t x y z qx qy qz qw), found " +
                std::to_string(tokens.size());
       return false;
     }
     double v[8];
-    if (!ParseValues(tokens, 0, 8, v, where, error)) return false;
+    if (!ParseFields(tokens, 0, 8, v, path, n, error)) return false;
     if (std::fabs(v[0]) > kMaxSecondsStamp) {
-      *error = where + "timestamp " + tokens[0] +
+      *error = Where(path, n) + "timestamp " + text::Printable(tokens[0]) +
                " is too large for seconds: it looks like nanoseconds (or "
                "microseconds); TUM stamps are seconds - divide by 1e9 (EuRoC "
                "CSV files with nanosecond stamps: use the euroc format)";
       return false;
     }
     StampedPose p;
-    if (!ParseStampSeconds(tokens[0], &p.stamp)) {
-      *error = where + "bad timestamp '" + tokens[0] + "'";
+    if (!ParseStampSecondsView(tokens[0], &p.stamp)) {
+      *error =
+          Where(path, n) + "bad timestamp '" + text::Printable(tokens[0]) + "'";
       return false;
     }
     Eigen::Quaterniond q;
-    if (!MakeQuaternion(v[4], v[5], v[6], v[7], where, &q, error)) {
+    if (!MakeQuaternion(v[4], v[5], v[6], v[7], Where(path, n), &q, error)) {
       return false;
     }
     p.pose = Pose3(Eigen::Vector3d(v[1], v[2], v[3]), q);
     trajectory->push_back(p);
     lines.push_back(n);
-    return true;
-  });
-  if (!ok) return false;
+    if (extras != nullptr) extras->seconds.push_back(v[0]);
+  }
   if (trajectory->empty()) {
     *error = path + ": no poses (expected lines 't x y z qx qy qz qw')";
     return false;
   }
-  return CheckIncreasing(*trajectory, lines, path, error);
+  return CheckIncreasing(*trajectory, lines, path, extras, error);
 }
 
-bool ReadKittiPoses(const std::string& path, const std::string& times_path,
-                    Trajectory* trajectory, bool* has_stamps,
-                    std::string* error) {
+}  // namespace
+
+bool ReadTumTrajectory(const std::string& path, Trajectory* trajectory,
+                       std::string* error) {
+  return ReadTum(path, trajectory, nullptr, error);
+}
+
+namespace {
+
+bool ReadKitti(const std::string& path, const std::string& times_path,
+               Trajectory* trajectory, bool* has_stamps, ReadExtras* extras,
+               std::string* error) {
   trajectory->clear();
-  std::string content;
-  if (!ReadWholeFile(path, &content, error)) return false;
-  const bool ok = ForEachLine(content, [&](int n, const std::string& line) {
-    if (IsSkippable(line)) return true;
-    const std::string where = Where(path, n);
-    const std::vector<std::string> tokens = SplitWhitespace(line);
+  FileText file;
+  if (!file.Open(path, error)) return false;
+  const std::string_view content = file.view();
+  ReserveForLines(content, trajectory, nullptr, extras);
+  if (extras != nullptr) extras->matrices.reserve(trajectory->capacity());
+  text::LineTokenizer tokenizer(content);
+  while (tokenizer.Next()) {
+    const int n = static_cast<int>(tokenizer.line());
+    const std::vector<std::string_view>& tokens = tokenizer.tokens();
     if (tokens.size() != 12) {
-      *error = where + "expected 12 values (3x4 row-major pose), found " +
+      *error = Where(path, n) +
+               "expected 12 values (3x4 row-major pose), found " +
                std::to_string(tokens.size());
       return false;
     }
     double v[12];
-    if (!ParseValues(tokens, 0, 12, v, where, error)) return false;
+    if (!ParseFields(tokens, 0, 12, v, path, n, error)) return false;
     Eigen::Matrix3d r;
     r << v[0], v[1], v[2], v[4], v[5], v[6], v[8], v[9], v[10];
     const double orth =
@@ -414,10 +562,11 @@ bool ReadKittiPoses(const std::string& path, const std::string& times_path,
                     "the 3x3 part is not a rotation (|R^T R - I| = %.3g, "
                     "det = %.6g)",
                     orth, r.determinant());
-      *error = where + buf;
+      *error = Where(path, n) + buf;
       return false;
     }
-    // Nearest rotation (published files keep ~7 significant digits).
+    // Pose3 holds the nearest rotation (published files keep ~7 significant
+    // digits); the evaluation uses the matrix as read (extras->matrices).
     Eigen::JacobiSVD<Eigen::Matrix3d> svd(
         r, Eigen::ComputeFullU | Eigen::ComputeFullV);
     const Eigen::Matrix3d rp = svd.matrixU() * svd.matrixV().transpose();
@@ -425,40 +574,47 @@ bool ReadKittiPoses(const std::string& path, const std::string& times_path,
     p.stamp = static_cast<TimeNs>(trajectory->size()) * kNanosecondsPerSecond;
     p.pose = Pose3(Eigen::Vector3d(v[3], v[7], v[11]), Eigen::Quaterniond(rp));
     trajectory->push_back(p);
-    return true;
-  });
-  if (!ok) return false;
+    if (extras != nullptr) extras->matrices.push_back(r);
+  }
   if (trajectory->empty()) {
     *error = path + ": no poses (expected 12 values per line)";
     return false;
   }
   *has_stamps = false;
-  if (times_path.empty()) return true;
+  if (times_path.empty()) {
+    if (extras != nullptr) {
+      for (size_t i = 0; i < trajectory->size(); ++i) {
+        extras->seconds.push_back(static_cast<double>(i));
+      }
+    }
+    return true;
+  }
 
-  if (!ReadWholeFile(times_path, &content, error)) return false;
+  std::string times_text;
+  if (!ReadWholeFile(times_path, &times_text, error)) return false;
   std::vector<TimeNs> stamps;
+  std::vector<double> seconds;
   std::vector<int> lines;
-  const bool times_ok =
-      ForEachLine(content, [&](int n, const std::string& line) {
-        if (IsSkippable(line)) return true;
-        const std::vector<std::string> tokens = SplitWhitespace(line);
-        TimeNs t = 0;
-        double v = 0.0;
-        if (tokens.size() != 1 || !ParseDouble(tokens[0], &v) ||
-            !ParseStampSeconds(tokens[0], &t)) {
-          *error = Where(times_path, n) + "expected one stamp in seconds";
-          return false;
-        }
-        if (std::fabs(v) > kMaxSecondsStamp) {
-          *error = Where(times_path, n) + "stamp " + tokens[0] +
-                   " is too large for seconds (nanoseconds?)";
-          return false;
-        }
-        stamps.push_back(t);
-        lines.push_back(n);
-        return true;
-      });
-  if (!times_ok) return false;
+  text::LineTokenizer times(times_text);
+  while (times.Next()) {
+    const int n = static_cast<int>(times.line());
+    const std::vector<std::string_view>& tokens = times.tokens();
+    TimeNs t = 0;
+    double v = 0.0;
+    if (tokens.size() != 1 || !text::ParseDouble(tokens[0], &v) ||
+        !ParseStampSecondsView(tokens[0], &t)) {
+      *error = Where(times_path, n) + "expected one stamp in seconds";
+      return false;
+    }
+    if (std::fabs(v) > kMaxSecondsStamp) {
+      *error = Where(times_path, n) + "stamp " + text::Printable(tokens[0]) +
+               " is too large for seconds (nanoseconds?)";
+      return false;
+    }
+    stamps.push_back(t);
+    seconds.push_back(v);
+    lines.push_back(n);
+  }
   if (stamps.size() != trajectory->size()) {
     *error = times_path + ": " + std::to_string(stamps.size()) +
              " stamps for " + std::to_string(trajectory->size()) +
@@ -466,13 +622,26 @@ bool ReadKittiPoses(const std::string& path, const std::string& times_path,
     return false;
   }
   for (size_t i = 0; i < stamps.size(); ++i) (*trajectory)[i].stamp = stamps[i];
-  if (!CheckIncreasing(*trajectory, lines, times_path, error)) return false;
+  if (!CheckIncreasing(*trajectory, lines, times_path, extras, error)) {
+    return false;
+  }
+  if (extras != nullptr) extras->seconds = std::move(seconds);
   *has_stamps = true;
   return true;
 }
 
-bool ReadEurocTrajectory(const std::string& path_in, Trajectory* trajectory,
-                         std::string* error) {
+}  // namespace
+
+bool ReadKittiPoses(const std::string& path, const std::string& times_path,
+                    Trajectory* trajectory, bool* has_stamps,
+                    std::string* error) {
+  return ReadKitti(path, times_path, trajectory, has_stamps, nullptr, error);
+}
+
+namespace {
+
+bool ReadEuroc(const std::string& path_in, Trajectory* trajectory,
+               ReadExtras* extras, std::string* error) {
   trajectory->clear();
   const std::string path = ResolveEurocPath(path_in);
   std::string content;
@@ -517,6 +686,10 @@ bool ReadEurocTrajectory(const std::string& path_in, Trajectory* trajectory,
     p.pose = Pose3(Eigen::Vector3d(v[0], v[1], v[2]), q);
     trajectory->push_back(p);
     lines.push_back(n);
+    // evo: the stamp column read as float64, divided by 1e9.
+    if (extras != nullptr) {
+      extras->seconds.push_back(static_cast<double>(ns) / 1e9);
+    }
     return true;
   });
   if (!ok) return false;
@@ -526,7 +699,14 @@ bool ReadEurocTrajectory(const std::string& path_in, Trajectory* trajectory,
              "qx,qy,qz')";
     return false;
   }
-  return CheckIncreasing(*trajectory, lines, path, error);
+  return CheckIncreasing(*trajectory, lines, path, extras, error);
+}
+
+}  // namespace
+
+bool ReadEurocTrajectory(const std::string& path, Trajectory* trajectory,
+                         std::string* error) {
+  return ReadEuroc(path, trajectory, nullptr, error);
 }
 
 bool ReadG2oPoses(const std::string& path, Trajectory* trajectory,
@@ -570,22 +750,54 @@ bool ReadTrajectory(const std::string& path,
   }
   data->format = format;
   data->has_stamps = true;
+  ReadExtras extras;
+  extras.allow_duplicate_stamps = options.allow_duplicate_stamps;
+  extras.allow_unsorted_stamps = options.allow_unsorted_stamps;
+  bool ok = false;
   switch (format) {
     case TrajectoryFormat::kTum:
-      return ReadTumTrajectory(path, &data->poses, error);
+      ok = ReadTum(path, &data->poses, &extras, error);
+      break;
     case TrajectoryFormat::kKitti:
-      return ReadKittiPoses(path, options.kitti_times_path, &data->poses,
-                            &data->has_stamps, error);
+      ok = ReadKitti(path, options.kitti_times_path, &data->poses,
+                     &data->has_stamps, &extras, error);
+      break;
     case TrajectoryFormat::kEuroc:
       data->path = ResolveEurocPath(path);
-      return ReadEurocTrajectory(path, &data->poses, error);
-    case TrajectoryFormat::kG2o:
-      return ReadG2oPoses(path, &data->poses, error);
-    case TrajectoryFormat::kAuto:
+      ok = ReadEuroc(path, &data->poses, &extras, error);
       break;
+    case TrajectoryFormat::kG2o:
+      ok = ReadG2oPoses(path, &data->poses, error);
+      break;
+    case TrajectoryFormat::kAuto:
+      *error = path + ": no trajectory format";
+      return false;
   }
-  *error = path + ": no trajectory format";
-  return false;
+  if (!ok) return false;
+  data->seconds = std::move(extras.seconds);
+  data->matrices = std::move(extras.matrices);
+  data->duplicate_stamps = extras.duplicate_stamps;
+  data->unsorted_stamps = extras.unsorted_stamps;
+  data->warning = std::move(extras.warning);
+  return true;
+}
+
+EvalTrajectory ToEvalTrajectory(const TrajectoryData& data) {
+  const size_t n = data.poses.size();
+  const bool has_seconds = data.seconds.size() == n;
+  const bool has_matrices = data.matrices.size() == n;
+  EvalTrajectory out;
+  out.stamps.resize(n);
+  out.seconds.resize(n);
+  out.poses.resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    const StampedPose& p = data.poses[i];
+    out.stamps[i] = p.stamp;
+    out.seconds[i] = has_seconds ? data.seconds[i] : NearestSeconds(p.stamp);
+    out.poses[i] = has_matrices ? MatrixPose(data.matrices[i], p.pose.t)
+                                : MatrixPose(p.pose);
+  }
+  return out;
 }
 
 bool WriteTrajectory(const std::string& path, const Trajectory& trajectory,

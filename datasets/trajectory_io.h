@@ -8,12 +8,13 @@
 //          or microseconds written where seconds belong) are rejected with a
 //          hint. Lines starting with '#' and blank lines are skipped.
 //   kitti  12 numbers per line, the 3x4 row-major [R | t] of the pose; no
-//          stamps. The 3x3 part must be a rotation to 1e-3 (it is projected
-//          onto the nearest rotation, since published files carry 7
-//          significant digits). An optional times file (one stamp in seconds
-//          per line, as KITTI's times.txt) gives the stamps; without it the
-//          pose index serves as stamp (in seconds) and has_stamps is false,
-//          so the evaluation associates by index.
+//          stamps. The 3x3 part must be a rotation to 1e-3. Pose3 holds the
+//          nearest rotation (published files carry 7 significant digits);
+//          TrajectoryData::matrices keeps the blocks as read, which the
+//          evaluation uses (as evo and the devkit do). An optional times file
+//          (one stamp in seconds per line, as KITTI's times.txt) gives the
+//          stamps; without it the pose index serves as stamp (in seconds) and
+//          has_stamps is false, so the evaluation associates by index.
 //   euroc  CSV, "timestamp [ns], px, py, pz, qw, qx, qy, qz[, more columns]":
 //          state_groundtruth_estimate0/data.csv (17 columns) and estimate CSVs
 //          (8 columns). Stamps are integer nanoseconds; quaternions w first.
@@ -33,7 +34,11 @@
 //
 // Errors name the place: "PATH:LINE: problem". Stamps must increase strictly
 // (a non-monotonic or duplicate stamp is an error naming both lines; nothing
-// is sorted or dropped silently); g2o ids must be unique.
+// is sorted or dropped silently); g2o ids must be unique. With
+// allow_duplicate_stamps / allow_unsorted_stamps (slam eval, as evo reads
+// such files) equal / decreasing stamps are kept in file order and
+// described in TrajectoryData::warning.
+// Numbers are parsed with std::from_chars (datasets/text_util.h).
 // Writers build the whole file in memory and replace the target atomically
 // (temporary file + rename); TUM stamps are written exactly, with nine
 // decimals, values with 17 significant digits (exact round trip).
@@ -42,6 +47,11 @@
 
 #include <string>
 
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/evaluation.h"
 #include "core/graph.h"
 #include "core/trajectory.h"
 
@@ -54,7 +64,9 @@ bool ParseTrajectoryFormat(const std::string& name, TrajectoryFormat* format);
 
 struct TrajectoryReadOptions {
   TrajectoryFormat format = TrajectoryFormat::kAuto;
-  std::string kitti_times_path;  // KITTI only: one stamp (s) per pose.
+  std::string kitti_times_path;         // KITTI only: one stamp (s) per pose.
+  bool allow_duplicate_stamps = false;  // Non-decreasing stamps suffice.
+  bool allow_unsorted_stamps = false;   // Decreasing ones too (file order).
 };
 
 struct TrajectoryData {
@@ -62,7 +74,20 @@ struct TrajectoryData {
   TrajectoryFormat format = TrajectoryFormat::kAuto;  // As read.
   bool has_stamps = true;  // False: KITTI without times (stamp = index s).
   std::string path;        // The file read (EuRoC: data.csv in a folder).
+  // The stamps as evo holds them, float64 seconds: TUM and KITTI times as
+  // parsed from the text, EuRoC nanoseconds / 1e9, KITTI without times the
+  // index. Empty for g2o (ToEvalTrajectory derives them).
+  std::vector<double> seconds;
+  // KITTI: the 3x3 blocks as read (poses hold the nearest rotations).
+  std::vector<Eigen::Matrix3d> matrices;
+  size_t duplicate_stamps = 0;  // With allow_duplicate_stamps.
+  size_t unsorted_stamps = 0;   // With allow_unsorted_stamps.
+  std::string warning;          // Non-empty: something to tell the user.
 };
+
+// The trajectory as the evaluation uses it: the seconds and matrices above
+// where the file has them.
+EvalTrajectory ToEvalTrajectory(const TrajectoryData& data);
 
 // The format of a file from its content (and extension), or an error.
 bool DetectTrajectoryFormat(const std::string& path, TrajectoryFormat* format,

@@ -188,6 +188,13 @@ TEST(EvaluationTest, DegenerateAlignmentIsAnError) {
   EXPECT_NE(error.find("degenerate"), std::string::npos) << error;
   s.align = AlignmentMethod::kNone;
   EXPECT_TRUE(EvaluateTrajectories(line, line, s, &r, &error)) << error;
+  // One matched pose: the message states the check (2, it said 3).
+  s.align = AlignmentMethod::kSE3;
+  const Trajectory one(line.begin(), line.begin() + 1);
+  EXPECT_FALSE(EvaluateTrajectories(one, one, s, &r, &error));
+  EXPECT_NE(error.find("needs at least 2 matched positions (got 1)"),
+            std::string::npos)
+      << error;
 }
 
 // ------------------------------------------------------------------------ RPE
@@ -319,6 +326,111 @@ TEST(RpeTest, BadDeltaIsAnError) {
   EXPECT_FALSE(ComputeRpe(ref, est, {}, {}, o, &e, &error));
 }
 
+TEST(RpeTest, HugeDeltasGiveNoPair) {
+  std::vector<Pose3> ref, est;
+  DriftingPair(5, 1.0, 0.0, &ref, &est);
+  std::vector<TimeNs> stamps;
+  for (int i = 0; i < 5; ++i) stamps.push_back(i * kNanosecondsPerSecond);
+  RpeErrors e;
+  std::string error;
+  RpeOptions o;
+  // Frames from 2^64 on: the size_t cast wrapped to 0 and the pair loop
+  // never ended.
+  for (const bool all : {false, true}) {
+    for (const double d : {18446744073709551616.0, 1e30, 5.0}) {
+      o.all_pairs = all;
+      o.delta = d;
+      EXPECT_FALSE(ComputeRpe(ref, est, stamps, stamps, o, &e, &error));
+      EXPECT_NE(error.find("no pose pair"), std::string::npos) << error;
+    }
+  }
+  // Seconds: 1e10 s overflowed int64 nanoseconds to INT64_MIN and every
+  // consecutive pair was taken.
+  o.unit = DeltaUnit::kSeconds;
+  for (const bool all : {false, true}) {
+    for (const double d : {1e10, 1e300, 4.5}) {
+      o.all_pairs = all;
+      o.delta = d;
+      EXPECT_FALSE(ComputeRpe(ref, est, stamps, stamps, o, &e, &error)) << d;
+      EXPECT_NE(error.find("no pose pair"), std::string::npos) << error;
+    }
+  }
+  // Stamps of opposite signs near the int64 limits: differences computed
+  // without overflow (no pair for 1 s, one over the whole span).
+  const std::vector<TimeNs> extreme = {-9000000000000000000ll, 0,
+                                       9000000000000000000ll};
+  std::vector<Pose3> three(ref.begin(), ref.begin() + 3);
+  o.all_pairs = false;
+  o.delta = 9e9;
+  ASSERT_TRUE(ComputeRpe(three, three, extreme, extreme, o, &e, &error))
+      << error;
+  EXPECT_EQ(e.pairs.size(), 2u);
+  o.delta = 1.8e10;
+  ASSERT_TRUE(ComputeRpe(three, three, extreme, extreme, o, &e, &error))
+      << error;
+  ASSERT_EQ(e.pairs.size(), 1u);
+  EXPECT_EQ(e.pairs[0], std::make_pair(size_t{0}, size_t{2}));
+  o.all_pairs = false;
+  o.delta = 4.0;  // Exactly the span: one pair.
+  ASSERT_TRUE(ComputeRpe(ref, est, stamps, stamps, o, &e, &error)) << error;
+  EXPECT_EQ(e.pairs.size(), 1u);
+}
+
+// ------------------------------------------------------ poses as evo reads
+// them
+
+TEST(MatrixPoseTest, AMatrixOffSO3IsUsedAsRead) {
+  // A reference 3x3 block A = diag(1 + eps, 1, 1) (as in a KITTI file with
+  // rounded digits) at both poses, moving 1 m along x; the estimate moves
+  // the same with exact identity rotations. evo: Q_rel = [A^T A | A^T t],
+  // E = Q_rel^-1 P_rel with the transpose as inverse, so t(E) = (1 + eps)^2
+  // - (1 + eps)^3 along x: |t(E)| = eps (1 + eps)^2. The nearest rotation
+  // (identity) would give 0.
+  const double eps = 1e-6;
+  Eigen::Matrix3d a = Eigen::Matrix3d::Identity();
+  a(0, 0) = 1.0 + eps;
+  const std::vector<MatrixPose> ref = {
+      MatrixPose(a, Eigen::Vector3d::Zero()),
+      MatrixPose(a, Eigen::Vector3d(1.0, 0.0, 0.0))};
+  const std::vector<MatrixPose> est = {
+      MatrixPose(),
+      MatrixPose(Eigen::Matrix3d::Identity(), Eigen::Vector3d(1.0, 0.0, 0.0))};
+  RpeErrors e;
+  std::string error;
+  ASSERT_TRUE(ComputeRpe(ref, est, {}, {}, RpeOptions(), &e, &error)) << error;
+  ASSERT_EQ(e.pairs.size(), 1u);
+  EXPECT_NEAR(e.translation[0], eps * (1.0 + eps) * (1.0 + eps), 1e-15);
+  // Rotation: scipy's quaternion of diag((1 + eps)^2, 1, 1) has no vector
+  // part: angle 0.
+  EXPECT_EQ(e.rotation_deg[0], 0.0);
+}
+
+TEST(MatrixPoseTest, RotationAngleOfMatrixFollowsScipy) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int k = 0; k < 200; ++k) {
+    const Eigen::Quaterniond q =
+        Eigen::Quaterniond(u(rng), u(rng), u(rng), u(rng)).normalized();
+    const MatrixPose m{Pose3(Eigen::Vector3d::Zero(), q)};
+    EXPECT_NEAR(RotationAngleOfMatrix(m.r), RotationAngle(q), 1e-12);
+    // evo's quaternion_matrix gives a rotation to rounding.
+    EXPECT_LT((m.r.transpose() * m.r - Eigen::Matrix3d::Identity()).norm(),
+              1e-14);
+  }
+  // Hand-computed: 0.1 rad about z with entry (0, 1) off by 1e-7. The trace
+  // branch: v = (0, 0, 2 sin 0.1 + 1e-7), w = 1 + 1 + 2 cos 0.1; angle = 2
+  // atan2(|v|, w) (normalization does not change the ratio).
+  Eigen::Matrix3d r =
+      Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  r(0, 1) -= 1e-7;
+  const double want =
+      2.0 * std::atan2(2.0 * std::sin(0.1) + 1e-7, 2.0 + 2.0 * std::cos(0.1));
+  EXPECT_NEAR(RotationAngleOfMatrix(r), want, 1e-15);
+  // Branch of a large diagonal entry: a half turn about x.
+  EXPECT_NEAR(RotationAngleOfMatrix(Eigen::Vector3d(1, -1, -1).asDiagonal()),
+              M_PI, 1e-15);
+}
+
 // ---------------------------------------------------------------- association
 
 // evo's matching_time_indices, literally: O(n m) argmin on double seconds.
@@ -407,7 +519,7 @@ TEST(AssociationTest, UnitMismatchAndDisjointRangesAreExplained) {
   EXPECT_NE(error.find("no matching timestamps"), std::string::npos) << error;
 }
 
-TEST(AssociationTest, TiesGoToTheEarlierStampAndPairsStayOneToOne) {
+TEST(AssociationTest, TiesAsNumpyArgminAndAPosePairedTwiceAsEvo) {
   Trajectory ref, est;
   for (int i = 0; i < 5; ++i) ref.push_back({i * 1000000000ll, Pose3()});
   // Short side (estimate, fewer poses): 0.5 s is exactly between 0 and 1;
@@ -417,12 +529,119 @@ TEST(AssociationTest, TiesGoToTheEarlierStampAndPairsStayOneToOne) {
   }
   AssociationOptions o;
   o.t_max_diff = 0.5;
+  // As evo: reference pose 2 is in two pairs.
+  const Association evo = AssociateByTimestamp(ref, est, o);
+  ASSERT_EQ(evo.size(), 3u);
+  EXPECT_EQ(evo.ref_indices[0], 0u);  // Tie 0 / 1: the first (numpy argmin).
+  EXPECT_EQ(evo.ref_indices[1], 2u);
+  EXPECT_EQ(evo.ref_indices[2], 2u);
+  EXPECT_EQ(evo.est_indices[2], 2u);
+  EXPECT_EQ(evo.reused_poses, 1u);
+  EXPECT_EQ(evo.dropped_duplicates, 0u);
+  // --unique_pairs: the closer of the two pairs of pose 2 stays.
+  o.unique_pairs = true;
   const Association a = AssociateByTimestamp(ref, est, o);
   ASSERT_EQ(a.size(), 2u);
-  EXPECT_EQ(a.ref_indices[0], 0u);  // Tie 0 / 1: the first, as numpy argmin.
+  EXPECT_EQ(a.ref_indices[0], 0u);
   EXPECT_EQ(a.ref_indices[1], 2u);
-  EXPECT_EQ(a.est_indices[1], 1u);  // The closer of the two for pose 2.
+  EXPECT_EQ(a.est_indices[1], 1u);
   EXPECT_EQ(a.dropped_duplicates, 1u);
+  EXPECT_EQ(a.reused_poses, 0u);
+}
+
+TEST(AssociationTest, ATieInNanosecondsGoesWhereEvosFloatSecondsPutIt) {
+  // 1311868164.15 s is exactly halfway between .1 and .2 in nanoseconds, but
+  // in float64 |.1 - .15| = 0.05000019073486328 > |.2 - .15| =
+  // 0.04999995231628418 (Python: abs(1311868164.1 - 1311868164.15)), so
+  // evo's argmin takes the later stamp.
+  const TimeNs base = 1311868164 * kNanosecondsPerSecond;
+  Trajectory ref = {{base + 100000000, Pose3()},
+                    {base + 200000000, Pose3()},
+                    {base + 300000000, Pose3()}};
+  Trajectory est = {{base + 150000000, Pose3()}};
+  AssociationOptions o;
+  o.t_max_diff = 0.1;
+  const Association a = AssociateByTimestamp(ref, est, o);
+  ASSERT_EQ(a.size(), 1u);
+  EXPECT_EQ(a.ref_indices[0], 1u);
+  const auto brute =
+      EvoAssociate({NearestSeconds(ref[0].stamp), NearestSeconds(ref[1].stamp),
+                    NearestSeconds(ref[2].stamp)},
+                   {NearestSeconds(est[0].stamp)}, 0.1, 0.0);
+  ASSERT_EQ(brute.size(), 1u);
+  EXPECT_EQ(brute[0].first, 1u);
+  // The seconds are the doubles Python parses from the text.
+  EXPECT_EQ(NearestSeconds(base + 150000000), 1311868164.15);
+  EXPECT_EQ(NearestSeconds(-1500000000), -1.5);
+}
+
+TEST(AssociationTest, DuplicateStampsPairWithTheFirstOfThem) {
+  // Reference stamps 1, 2, 2, 3 (evo reads such files); estimate 2.0 and
+  // 2.001: both go to the first pose stamped 2 (index 1), as numpy's argmin.
+  Trajectory ref, est;
+  for (double t : {1.0, 2.0, 2.0, 3.0})
+    ref.push_back({SecondsToNs(t), Pose3()});
+  for (double t : {2.0, 2.001}) est.push_back({SecondsToNs(t), Pose3()});
+  const Association a = AssociateByTimestamp(ref, est, {});
+  ASSERT_EQ(a.size(), 2u);
+  EXPECT_EQ(a.ref_indices[0], 1u);
+  EXPECT_EQ(a.ref_indices[1], 1u);
+  EXPECT_EQ(a.reused_poses, 1u);
+}
+
+TEST(AssociationTest, UnsortedStampsWithDuplicatesAsEvosArgmin) {
+  // Stamps in random file order, on a 0.05 s grid so that many are exactly
+  // halfway, duplicated, or equally far: every pair must be evo's (the
+  // brute-force argmin in file order), for both sides being the longer one
+  // and with an offset.
+  std::mt19937 rng(3);
+  std::uniform_int_distribution<int> grid(0, 60);
+  for (int trial = 0; trial < 50; ++trial) {
+    Trajectory ref, est;
+    for (int i = 0; i < 40; ++i) {
+      ref.push_back(
+          {1700000000 * kNanosecondsPerSecond + grid(rng) * 50000000ll,
+           Pose3()});
+    }
+    for (int i = 0; i < (trial % 2 ? 25 : 55); ++i) {
+      est.push_back(
+          {1700000000 * kNanosecondsPerSecond + grid(rng) * 25000000ll,
+           Pose3()});
+    }
+    const EvalTrajectory r = ToEvalTrajectory(ref), e = ToEvalTrajectory(est);
+    for (const double offset : {0.0, 0.025, -0.1}) {
+      AssociationOptions o;
+      o.t_max_diff = 0.03;
+      o.t_offset = offset;
+      const Association a = AssociateByTimestamp(r, e, o);
+      const auto evo = EvoAssociate(r.seconds, e.seconds, 0.03, offset);
+      ASSERT_EQ(a.size(), evo.size()) << trial;
+      for (size_t k = 0; k < a.size(); ++k) {
+        EXPECT_EQ(a.ref_indices[k], evo[k].first) << trial << " " << k;
+        EXPECT_EQ(a.est_indices[k], evo[k].second) << trial << " " << k;
+      }
+    }
+  }
+}
+
+TEST(AssociationTest, NonFiniteOffsetIsAnError) {
+  // Before: llround(NaN) gave INT64_MIN and its negation overflowed.
+  const Trajectory t = Wiggly(10);
+  EvalSettings s;
+  for (double bad : {std::nan(""), HUGE_VAL, -HUGE_VAL}) {
+    s.sync.t_offset = bad;
+    EvalResult r;
+    std::string error;
+    EXPECT_FALSE(EvaluateTrajectories(t, t, s, &r, &error));
+    EXPECT_NE(error.find("t_offset must be a finite"), std::string::npos)
+        << error;
+  }
+  s.sync.t_offset = 0.0;
+  s.sync.t_max_diff = std::nan("");
+  EvalResult r;
+  std::string error;
+  EXPECT_FALSE(EvaluateTrajectories(t, t, s, &r, &error));
+  EXPECT_NE(error.find("t_max_diff"), std::string::npos) << error;
 }
 
 TEST(AssociationTest, ByIndexNeedsEqualCounts) {
@@ -590,7 +809,7 @@ std::vector<Stamped4> ParseKitti(const std::string& path) {
     Stamped4 s;
     Eigen::Matrix3d r;
     r << v[0], v[1], v[2], v[4], v[5], v[6], v[8], v[9], v[10];
-    s.m.block<3, 3>(0, 0) = NearestRotation(r);
+    s.m.block<3, 3>(0, 0) = r;  // As read, as evo and the devkit.
     s.m.block<3, 1>(0, 3) = Eigen::Vector3d(v[3], v[7], v[11]);
     s.t = static_cast<double>(out.size());
     out.push_back(s);
@@ -624,6 +843,23 @@ std::vector<Stamped4> ParseTum(const std::string& path) {
     out.push_back(s);
   }
   return out;
+}
+
+// evo's se3_inverse: the transpose of the 3x3 block.
+Mat4 EvoInverse(const Mat4& m) {
+  Mat4 out = Mat4::Identity();
+  out.block<3, 3>(0, 0) = m.block<3, 3>(0, 0).transpose();
+  out.block<3, 1>(0, 3) =
+      -(m.block<3, 3>(0, 0).transpose() * m.block<3, 1>(0, 3));
+  return out;
+}
+
+// The angle of the rotation evo extracts from a matrix that may be slightly
+// off SO(3) (scipy's quaternion): here through Eigen's quaternion of the
+// matrix, whose vector-to-scalar ratio is the same.
+double EvoAngle(const Eigen::Matrix3d& r) {
+  const Eigen::Quaterniond q(r);
+  return 2.0 * std::atan2(q.vec().norm(), std::fabs(q.w()));
 }
 
 double Angle(const Eigen::Matrix3d& r) {
@@ -716,8 +952,8 @@ Independent RunIndependent(const std::vector<Stamped4>& ref_in,
   for (size_t i = 0; i < ref.size(); ++i) {
     ape_t.push_back(
         (est[i].block<3, 1>(0, 3) - ref[i].block<3, 1>(0, 3)).norm());
-    const Mat4 e = est[i].inverse() * ref[i];
-    ape_r.push_back(Angle(e.block<3, 3>(0, 0)) * kDeg);
+    const Mat4 e = EvoInverse(est[i]) * ref[i];
+    ape_r.push_back(EvoAngle(e.block<3, 3>(0, 0)) * kDeg);
   }
   out.ape_t = IndependentStats(ape_t);
   out.ape_r = IndependentStats(ape_r);
@@ -745,9 +981,9 @@ Independent RunIndependent(const std::vector<Stamped4>& ref_in,
   std::vector<double> rpe_t, rpe_r;
   for (const auto& [i, j] : pairs) {
     const Mat4 e =
-        (ref[i].inverse() * ref[j]).inverse() * (est[i].inverse() * est[j]);
+        EvoInverse(EvoInverse(ref[i]) * ref[j]) * (EvoInverse(est[i]) * est[j]);
     rpe_t.push_back(e.block<3, 1>(0, 3).norm());
-    rpe_r.push_back(Angle(e.block<3, 3>(0, 0)) * kDeg);
+    rpe_r.push_back(EvoAngle(e.block<3, 3>(0, 0)) * kDeg);
   }
   out.rpe_pairs = pairs.size();
   out.rpe_t = IndependentStats(rpe_t);
@@ -795,10 +1031,13 @@ TEST(RealDataTest, Kitti00OrbMatchesAnIndependentComputation) {
   SLAM_REQUIRE_DATASET(gt);
   SLAM_REQUIRE_DATASET(orb);
   const auto start = std::chrono::steady_clock::now();
-  TrajectoryData ref, est;
+  TrajectoryData ref_data, est_data;
   std::string error;
-  ASSERT_TRUE(ReadTrajectory(gt, {}, &ref, &error)) << error;
-  ASSERT_TRUE(ReadTrajectory(orb, {}, &est, &error)) << error;
+  ASSERT_TRUE(ReadTrajectory(gt, {}, &ref_data, &error)) << error;
+  ASSERT_TRUE(ReadTrajectory(orb, {}, &est_data, &error)) << error;
+  // The matrices as read (the files are up to 8e-7 off SO(3)).
+  const EvalTrajectory ref = ToEvalTrajectory(ref_data);
+  const EvalTrajectory est = ToEvalTrajectory(est_data);
   EvalSettings s;
   s.association = AssociationMethod::kIndex;  // KITTI: no stamps.
   s.align = AlignmentMethod::kSE3;
@@ -806,8 +1045,7 @@ TEST(RealDataTest, Kitti00OrbMatchesAnIndependentComputation) {
   s.rpe.unit = DeltaUnit::kMeters;
   s.kitti = true;
   EvalResult r;
-  ASSERT_TRUE(EvaluateTrajectories(ref.poses, est.poses, s, &r, &error))
-      << error;
+  ASSERT_TRUE(EvaluateTrajectories(ref, est, s, &r, &error)) << error;
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
           .count();
@@ -839,6 +1077,9 @@ TEST(RealDataTest, Kitti00OrbMatchesAnIndependentComputation) {
   EXPECT_EQ(r.kitti.num_segments, ind.kitti_segments);
   EXPECT_NEAR(r.kitti.t_rel_percent, ind.kitti_t, 5e-5);
   EXPECT_NEAR(r.kitti.r_rel_deg_per_100m, ind.kitti_r, 5e-5);
+  // The devkit's own figure on these files: 0.002533521 deg/m (issue 14;
+  // with each rotation replaced by the nearest one it was 0.002533423).
+  EXPECT_NEAR(r.kitti.r_rel_deg_per_100m / 100.0, 0.002533521, 5e-10);
   // Regression pins of the figures (6 decimals, as evo prints them).
   EXPECT_NEAR(r.ape_translation_stats.rmse, 1.303450, 5e-7);
   EXPECT_NEAR(r.rpe_translation_stats.rmse, 0.226261, 5e-7);
@@ -847,8 +1088,7 @@ TEST(RealDataTest, Kitti00OrbMatchesAnIndependentComputation) {
   s.rpe.delta = 1.0;
   s.rpe.unit = DeltaUnit::kFrames;
   s.kitti = false;
-  ASSERT_TRUE(EvaluateTrajectories(ref.poses, est.poses, s, &r, &error))
-      << error;
+  ASSERT_TRUE(EvaluateTrajectories(ref, est, s, &r, &error)) << error;
   const Independent ind1 =
       RunIndependent(ParseKitti(gt), ParseKitti(orb), false, 1.0, false);
   std::printf("  RPE delta 1 frame:\n");

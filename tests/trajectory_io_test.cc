@@ -138,6 +138,42 @@ TEST(TumTest, DuplicateAndDecreasingStampsAreErrors) {
   EXPECT_NE(error.find("before"), std::string::npos) << error;
 }
 
+TEST(TumTest, DuplicateStampsAreKeptWithAWarningWhenAllowed) {
+  const std::string path = testing::TempDir() + "/dup.txt";
+  WriteText(path,
+            "1.0 0 0 0 0 0 0 1\n2.0 0 0 0 0 0 0 1\n2.0 1 0 0 0 0 0 1\n"
+            "3.10 2 0 0 0 0 0 1\n3.10 3 0 0 0 0 0 1\n");
+  TrajectoryReadOptions options;
+  TrajectoryData data;
+  std::string error;
+  EXPECT_FALSE(ReadTrajectory(path, options, &data, &error));
+  options.allow_duplicate_stamps = true;
+  ASSERT_TRUE(ReadTrajectory(path, options, &data, &error)) << error;
+  EXPECT_EQ(data.poses.size(), 5u);
+  EXPECT_EQ(data.duplicate_stamps, 2u);
+  EXPECT_NE(data.warning.find("2 duplicate stamps (first: " + path +
+                              ":3: timestamp 2.000000000 s is a duplicate of "
+                              "the one on line 2)"),
+            std::string::npos)
+      << data.warning;
+  // The seconds are the doubles of the text, as evo parses them.
+  ASSERT_EQ(data.seconds.size(), 5u);
+  EXPECT_EQ(data.seconds[3], 3.10);
+  // Decreasing stamps stay an error unless allowed too.
+  WriteText(path, "2.0 0 0 0 0 0 0 1\n1.5 0 0 0 0 0 0 1\n");
+  EXPECT_FALSE(ReadTrajectory(path, options, &data, &error));
+  EXPECT_NE(error.find("before"), std::string::npos) << error;
+  options.allow_unsorted_stamps = true;
+  ASSERT_TRUE(ReadTrajectory(path, options, &data, &error)) << error;
+  EXPECT_EQ(data.unsorted_stamps, 1u);
+  EXPECT_NE(data.warning.find("1 decreasing stamp (first: " + path +
+                              ":2: timestamp 1.500000000 s is before the one "
+                              "on line 1)"),
+            std::string::npos)
+      << data.warning;
+  EXPECT_EQ(data.poses[1].stamp, 1500000000);  // File order kept.
+}
+
 TEST(TumTest, QuaternionsAreNormalized) {
   const std::string path = testing::TempDir() + "/q.txt";
   WriteText(path, "0.5 1 2 3 0 0 0 2\n");
@@ -174,6 +210,27 @@ TEST(KittiTest, RoundTripWithAndWithoutTimes) {
   TrajectoryFormat f;
   ASSERT_TRUE(DetectTrajectoryFormat(dir + "/poses.txt", &f, &error));
   EXPECT_EQ(f, TrajectoryFormat::kKitti);
+}
+
+TEST(KittiTest, TheEvaluationGetsTheMatricesAsRead) {
+  // 7 significant digits: 1e-7 off SO(3). Pose3 holds the nearest rotation,
+  // the evaluation the matrix as written (as evo and the devkit).
+  const std::string path = testing::TempDir() + "/raw.txt";
+  WriteText(path,
+            "1.000000 0 0 0 0 1 0 0 0 0 1 0\n"
+            "0.9999999 0.0001234 0 1.5 -0.0001234 1.000000 0 0 0 0 1.0000001 "
+            "0\n");
+  TrajectoryData data;
+  std::string error;
+  ASSERT_TRUE(ReadTrajectory(path, {}, &data, &error)) << error;
+  ASSERT_EQ(data.matrices.size(), 2u);
+  const EvalTrajectory e = ToEvalTrajectory(data);
+  Eigen::Matrix3d want;
+  want << 0.9999999, 0.0001234, 0, -0.0001234, 1.000000, 0, 0, 0, 1.0000001;
+  EXPECT_EQ(e.poses[1].r, want);
+  EXPECT_EQ(e.poses[1].t, Eigen::Vector3d(1.5, 0, 0));
+  EXPECT_GT((data.poses[1].pose.q.toRotationMatrix() - want).norm(), 5e-8);
+  EXPECT_EQ(e.seconds[1], 1.0);  // The index, without times.
 }
 
 TEST(KittiTest, MalformedInput) {

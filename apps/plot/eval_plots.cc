@@ -31,6 +31,11 @@ std::string TimeLabel(const EvalResult& r) {
                                 : "time from the first matched pose [s]";
 }
 
+// "over time" or "over the pose index", as the x axis is.
+std::string OverAxis(const EvalResult& r) {
+  return r.association.by_index ? "over the pose index" : "over time";
+}
+
 void AddStatLines(const ErrorStatistics& s, const char* unit,
                   plot::Axes* axes) {
   axes->hlines.push_back(
@@ -52,10 +57,11 @@ bool WriteEvalPlotsImpl(const std::string& dir, const EvalResult& r,
     *error = dir + ": cannot create the plot directory (" + ec.message() + ")";
     return false;
   }
-  // Seen from above: drop the axis along which the reference moves least.
+  // Project on a plane: drop the axis along which the reference moves least
+  // (z for a ground vehicle in a z-up world, y for KITTI's camera frames).
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300);
   Eigen::Vector3d hi = Eigen::Vector3d::Constant(-1e300);
-  for (const Pose3& p : r.ref) {
+  for (const MatrixPose& p : r.ref) {
     lo = lo.cwiseMin(p.t);
     hi = hi.cwiseMax(p.t);
   }
@@ -68,22 +74,23 @@ bool WriteEvalPlotsImpl(const std::string& dir, const EvalResult& r,
   const int ay = drop == 2 ? 1 : 2;
   const char* names = "xyz";
   const std::string plane = std::string(1, names[ax]) + "-" + names[ay];
-  auto xs = [&](const std::vector<Pose3>& v) {
+  const std::string plane_text =
+      plane + " plane (" + names[drop] + ", the axis of least extent, dropped)";
+  auto xs = [&](const std::vector<MatrixPose>& v) {
     std::vector<double> out;
-    for (const Pose3& p : v) out.push_back(p.t[ax]);
+    for (const MatrixPose& p : v) out.push_back(p.t[ax]);
     return out;
   };
-  auto ys = [&](const std::vector<Pose3>& v) {
+  auto ys = [&](const std::vector<MatrixPose>& v) {
     std::vector<double> out;
-    for (const Pose3& p : v) out.push_back(p.t[ay]);
+    for (const MatrixPose& p : v) out.push_back(p.t[ay]);
     return out;
   };
   const std::string xl = std::string(1, names[ax]) + " [m]";
   const std::string yl = std::string(1, names[ay]) + " [m]";
-  const char* const align_names[] = {
-      "not aligned", "aligned with SE(3) Umeyama",
-      "aligned with Sim(3) Umeyama", "scale-corrected",
-      "aligned at the first pose"};
+  const char* const align_names[] = {"not aligned", "SE(3)-aligned",
+                                     "Sim(3)-aligned", "scale-corrected",
+                                     "aligned at the first pose"};
   const std::string align_name = align_names[static_cast<int>(s.align)];
 
   auto save = [&](const std::string& name, const cv::Mat& img) {
@@ -93,10 +100,9 @@ bool WriteEvalPlotsImpl(const std::string& dir, const EvalResult& r,
     return true;
   };
 
-  {  // Trajectories from above.
+  {  // Trajectories projected on the plane.
     plot::Axes a;
-    a.title = "Trajectories seen from above (" + plane + " plane), estimate " +
-              align_name;
+    a.title = "Trajectories in the " + plane_text + ", estimate " + align_name;
     a.xlabel = xl;
     a.ylabel = yl;
     a.equal_aspect = true;
@@ -119,7 +125,7 @@ bool WriteEvalPlotsImpl(const std::string& dir, const EvalResult& r,
     const ErrorStatistics& st = r.ape_translation_stats;
     a.title = "APE translation along the estimate (rmse " +
               Fmt("%.4g", st.rmse) + " m, max " + Fmt("%.4g", st.max) +
-              " m), " + plane + " plane";
+              " m), estimate " + align_name + ", " + plane + " plane";
     a.xlabel = xl;
     a.ylabel = yl;
     a.equal_aspect = true;
@@ -141,13 +147,15 @@ bool WriteEvalPlotsImpl(const std::string& dir, const EvalResult& r,
   const std::vector<double> t = TimeAxis(r);
   {  // APE over time.
     plot::Axes at, ar;
-    at.title = "APE translation over time (" + align_name + ")";
+    at.title =
+        "APE translation " + OverAxis(r) + " (estimate " + align_name + ")";
     at.xlabel = TimeLabel(r);
     at.ylabel = "APE translation [m]";
     at.lines.push_back(
         {t, r.ape_translation, plot::kBlue, 2, false, "APE translation"});
     AddStatLines(r.ape_translation_stats, "m", &at);
-    ar.title = "APE rotation over time (angle of P_est^-1 P_ref)";
+    ar.title = "APE rotation " + OverAxis(r) +
+               " (angle of inv(P_est) * P_ref, estimate " + align_name + ")";
     ar.xlabel = TimeLabel(r);
     ar.ylabel = "APE rotation [deg]";
     ar.lines.push_back(
@@ -161,13 +169,20 @@ bool WriteEvalPlotsImpl(const std::string& dir, const EvalResult& r,
     std::vector<double> tj;
     for (const auto& pr : r.rpe.pairs) tj.push_back(t[pr.second]);
     plot::Axes at, ar;
-    at.title = "RPE translation (" + DescribeRpeOptions(s.rpe) + ")";
+    // Short enough for the width: the delta, the pairs, the alignment.
+    std::string rpe = "delta " + Fmt("%g", s.rpe.delta) + " " +
+                      DeltaUnitName(s.rpe.unit) +
+                      (s.rpe.all_pairs ? ", all pairs" : ", consecutive pairs");
+    if (s.rpe.pairs_from_reference) rpe += " on the reference";
+    at.title = "RPE translation " + OverAxis(r) + " (" + rpe + ", estimate " +
+               align_name + ")";
     at.xlabel = TimeLabel(r);
     at.ylabel = "RPE translation [m]";
     at.lines.push_back(
         {tj, r.rpe.translation, plot::kBlue, 2, false, "RPE translation"});
     AddStatLines(r.rpe_translation_stats, "m", &at);
-    ar.title = "RPE rotation (" + std::to_string(r.rpe.pairs.size()) +
+    ar.title = "RPE rotation " + OverAxis(r) + " (" +
+               std::to_string(r.rpe.pairs.size()) +
                " pairs, plotted at the end of each pair)";
     ar.xlabel = TimeLabel(r);
     ar.ylabel = "RPE rotation [deg]";
