@@ -1,4 +1,5 @@
 #include "frontends/stereo/stereo_features.h"
+#include "frontends/stereo/stereo_common.h"
 
 #include <algorithm>
 #include <chrono>
@@ -12,15 +13,7 @@
 namespace slam {
 namespace {
 
-double MsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(
-             std::chrono::steady_clock::now() - start)
-      .count();
-}
-
-int Hamming(const cv::Mat& a, int i, const cv::Mat& b, int j) {
-  return cv::hal::normHamming(a.ptr<uchar>(i), b.ptr<uchar>(j), a.cols);
-}
+using stereo::Hamming;
 
 // Sum of absolute differences between the left patch at (ul, v) and the
 // right patch at (ur, v), both brightness-normalised by their centre pixel;
@@ -230,11 +223,13 @@ StereoFeatureFrame StereoFeatureExtractor::Extract(
   });
   DetectAndDescribe(images.left, &frame.keypoints, &frame.descriptors);
   right.join();
-  if (timings != nullptr) timings->features_ms = MsSince(start);
+  if (timings != nullptr)
+    timings->features_ms = stereo::MillisecondsSince(start);
   start = std::chrono::steady_clock::now();
   MatchStereo(images.left, images.right, frame.keypoints, frame.descriptors,
               right_keypoints, right_descriptors, &frame.u_right);
-  if (timings != nullptr) timings->matching_ms = MsSince(start);
+  if (timings != nullptr)
+    timings->matching_ms = stereo::MillisecondsSince(start);
   return frame;
 }
 

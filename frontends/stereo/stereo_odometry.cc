@@ -1,4 +1,5 @@
 #include "frontends/stereo/stereo_odometry.h"
+#include "frontends/stereo/stereo_common.h"
 
 #include <algorithm>
 #include <chrono>
@@ -18,15 +19,7 @@
 namespace slam {
 namespace {
 
-double MsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(
-             std::chrono::steady_clock::now() - start)
-      .count();
-}
-
-int Hamming(const cv::Mat& a, int i, const cv::Mat& b, int j) {
-  return cv::hal::normHamming(a.ptr<uchar>(i), b.ptr<uchar>(j), 32);
-}
+using stereo::Hamming;
 
 double RotationAngle(const Pose3& p) { return Eigen::AngleAxisd(p.q).angle(); }
 
@@ -544,7 +537,7 @@ StereoFrameResult StereoOdometry::AddFrame(const StereoFeatureFrame& frame) {
       frames_since_keyframe_ = 0;
     }
     frames_.push_back(record);
-    result.tracking_ms = MsSince(start);
+    result.tracking_ms = stereo::MillisecondsSince(start);
     return result;
   }
   result.initialized = true;
@@ -616,7 +609,7 @@ StereoFrameResult StereoOdometry::AddFrame(const StereoFeatureFrame& frame) {
           config_.keyframe_depth_fraction * last.median_depth ||
       RotationAngle(from_last) > config_.keyframe_rotation ||
       frames_since_keyframe_ >= config_.keyframe_max_frames;
-  result.tracking_ms = MsSince(start);
+  result.tracking_ms = stereo::MillisecondsSince(start);
   if (make_keyframe) {
     const auto ba_start = std::chrono::steady_clock::now();
     const int64_t id = AddKeyframe(frame, pose, matches, &result.new_points);
@@ -625,7 +618,7 @@ StereoFrameResult StereoOdometry::AddFrame(const StereoFeatureFrame& frame) {
     record.keyframe_to_frame = Pose3();
     result.keyframe = true;
     frames_since_keyframe_ = 0;
-    result.local_ba_ms = MsSince(ba_start);
+    result.local_ba_ms = stereo::MillisecondsSince(ba_start);
   } else {
     record.keyframe = last_id;
     record.keyframe_to_frame = from_last;
@@ -674,7 +667,7 @@ void StereoOdometry::Finish() {
   }
   RemoveOutlierObservations(all);
   RemoveDeadPoints();
-  stats_.final_ba_ms = MsSince(start);
+  stats_.final_ba_ms = stereo::MillisecondsSince(start);
 }
 
 Trajectory StereoOdometry::FrameTrajectory() const {
