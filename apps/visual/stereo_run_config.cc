@@ -93,6 +93,9 @@ bool LoadStereoRunConfig(const std::string& path, StereoRunConfig* config,
   if (!node) return true;
   if (!LoadSection(node, Schema(config), path, error)) return false;
   if (!LoadLoopsConfig(path, &config->loops, error)) return false;
+  // Stereo keyframes are verified by PnP on their stereo points (the
+  // loops.verification setting is for image sequences without depth).
+  config->loops.detector.verification = bow::Verification::kStereoPnp;
   // The pyramid scale of the features sets the noise model's scale.
   config->odometry.scale_factor = config->features.scale_factor;
   if (!ValidateStereoRunConfig(*config, error)) {

@@ -44,7 +44,9 @@ struct StereoRunConfig {
   StereoOdometryConfig odometry;
   StereoLoopClosingConfig loop_closure;
   // Place recognition: the file's `loops:` section (apps/visual/
-  // loops_config.h; its vocabulary, or one trained on the keyframes).
+  // loops_config.h; its vocabulary, or one trained on the keyframes;
+  // verification is always stereo PnP here, orb_features is not used: the
+  // keyframes' own features are).
   LoopsConfig loops;
 };
 
