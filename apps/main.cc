@@ -19,6 +19,7 @@
 
 #include "apps/commands.h"
 #include "apps/process_heap.h"
+#include "datasets/atomic_file.h"
 
 namespace {
 
@@ -82,5 +83,14 @@ int main(int argc, char** argv) {
   gflags::SetUsageMessage("slam " + name + ": " + it->second.summary);
   gflags::ParseCommandLineFlags(&rest_argc, &rest_argv, true);
   std::vector<std::string> args(rest_argv + 1, rest_argv + rest_argc);
-  return it->second.run(args);
+  // The outputs of a command are published only when it succeeds: a failed
+  // command leaves none of them behind (datasets/atomic_file.h).
+  slam::OutputStage outputs;
+  const int code = it->second.run(args);
+  std::string error;
+  if (code == 0 && !outputs.Commit(&error)) {
+    std::fprintf(stderr, "slam %s: %s\n", name.c_str(), error.c_str());
+    return 1;
+  }
+  return code;
 }
