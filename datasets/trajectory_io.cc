@@ -17,6 +17,7 @@
 
 #include "datasets/atomic_file.h"
 #include "datasets/g2o_io.h"
+#include "datasets/text_util.h"
 
 namespace slam {
 namespace {
@@ -44,7 +45,7 @@ bool ReadWholeFile(const std::string& path, std::string* content,
 // Calls fn(line_number, line) for every line (without '\n' or '\r').
 template <typename Fn>
 bool ForEachLine(const std::string& content, Fn fn) {
-  size_t pos = 0;
+  size_t pos = text::Utf8BomLength(content);  // Skipped as by every reader.
   int line_number = 0;
   while (pos < content.size()) {
     size_t end = content.find('\n', pos);
@@ -94,13 +95,9 @@ std::vector<std::string> SplitCommas(const std::string& line) {
   return tokens;
 }
 
+// The readers' strict decimal parser (no hex floats, nan or inf).
 bool ParseDouble(const std::string& token, double* value) {
-  if (token.empty()) return false;
-  char* end = nullptr;
-  errno = 0;
-  *value = std::strtod(token.c_str(), &end);
-  return end == token.c_str() + token.size() && errno != ERANGE &&
-         std::isfinite(*value);
+  return text::ParseDouble(token, value);
 }
 
 bool ParseInt64(const std::string& token, int64_t* value) {
@@ -124,7 +121,7 @@ bool ParseValues(const std::vector<std::string>& tokens, size_t first,
   for (size_t i = 0; i < count; ++i) {
     if (!ParseDouble(tokens[first + i], &out[i])) {
       *error = where + "field " + std::to_string(first + i + 1) + " ('" +
-               tokens[first + i] + "') is not a finite number";
+               text::Printable(tokens[first + i]) + "') is not a finite number";
       return false;
     }
   }
@@ -295,6 +292,7 @@ bool DetectTrajectoryFormat(const std::string& path, TrajectoryFormat* format,
   bool euroc_header = false;
   while (std::getline(in, line) && line_number < 1000) {
     ++line_number;
+    if (line_number == 1) line.erase(0, text::Utf8BomLength(line));
     const std::string t = Trim(line);
     if (t.empty()) continue;
     if (t[0] == '#') {
@@ -359,7 +357,7 @@ bool ReadTumTrajectory(const std::string& path, Trajectory* trajectory,
     double v[8];
     if (!ParseValues(tokens, 0, 8, v, where, error)) return false;
     if (std::fabs(v[0]) > kMaxSecondsStamp) {
-      *error = where + "timestamp " + tokens[0] +
+      *error = where + "timestamp " + text::Printable(tokens[0]) +
                " is too large for seconds: it looks like nanoseconds (or "
                "microseconds); TUM stamps are seconds - divide by 1e9 (EuRoC "
                "CSV files with nanosecond stamps: use the euroc format)";
@@ -367,7 +365,7 @@ bool ReadTumTrajectory(const std::string& path, Trajectory* trajectory,
     }
     StampedPose p;
     if (!ParseStampSeconds(tokens[0], &p.stamp)) {
-      *error = where + "bad timestamp '" + tokens[0] + "'";
+      *error = where + "bad timestamp '" + text::Printable(tokens[0]) + "'";
       return false;
     }
     Eigen::Quaterniond q;
@@ -450,7 +448,8 @@ bool ReadKittiPoses(const std::string& path, const std::string& times_path,
           return false;
         }
         if (std::fabs(v) > kMaxSecondsStamp) {
-          *error = Where(times_path, n) + "stamp " + tokens[0] +
+          *error = Where(times_path, n) + "stamp " +
+                   text::Printable(tokens[0]) +
                    " is too large for seconds (nanoseconds?)";
           return false;
         }
@@ -499,7 +498,8 @@ bool ReadEurocTrajectory(const std::string& path_in, Trajectory* trajectory,
     int64_t ns = 0;
     if (!ParseInt64(tokens[0], &ns)) {
       double v = 0.0;
-      *error = where + "timestamp '" + tokens[0] + "' is not an integer" +
+      *error = where + "timestamp '" + text::Printable(tokens[0]) +
+               "' is not an integer" +
                (ParseDouble(tokens[0], &v)
                     ? ": EuRoC stamps are integer nanoseconds (a file with "
                       "seconds is not EuRoC; convert it or write TUM)"
