@@ -19,6 +19,7 @@
 
 #include "apps/commands.h"
 #include "apps/process_heap.h"
+#include "apps/safe_stderr.h"
 #include "datasets/atomic_file.h"
 
 namespace {
@@ -63,6 +64,7 @@ void PrintUsage() {
 
 int main(int argc, char** argv) {
   slam::ConfigureProcessHeap();  // See apps/process_heap.h.
+  slam::FilterControlBytesOnStderr();
   if (argc < 2 || std::strcmp(argv[1], "--help") == 0 ||
       std::strcmp(argv[1], "-h") == 0 || std::strcmp(argv[1], "help") == 0) {
     PrintUsage();

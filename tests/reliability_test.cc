@@ -140,6 +140,13 @@ TEST(ReliabilityTest, ControlBytesOfTheInputAreNotEchoed) {
       dir, "eval --ref " + dir + "/t.tum --est " + dir + "/t.tum --format tum");
   EXPECT_EQ(run.code, 1);
   EXPECT_FALSE(Contains(run.err, "\x1b")) << run.err;
+  // A config value quoted in a message (YAML "\e" is ESC).
+  WriteText(dir + "/c.yaml", "optimize:\n  solver: \"\\e[31mred\"\n");
+  const SlamRun config =
+      RunIn(dir, "optimize -i x.g2o --config " + dir + "/c.yaml");
+  EXPECT_NE(config.code, 0);
+  EXPECT_TRUE(Contains(config.err, "?[31mred")) << config.err;
+  EXPECT_FALSE(Contains(config.err, "\x1b")) << config.err;
 }
 
 // ---------------------------------------------------------------------------
