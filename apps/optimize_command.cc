@@ -369,6 +369,11 @@ int RunOptimizeCommand(const std::vector<std::string>& args) {
     std::cerr << "repaired " << read_report.repaired_information
               << " information matrices that were not positive definite\n";
   }
+  if (graph.NumFactors() == 0) {
+    std::cerr << "slam optimize: " << input
+              << ": no edges (factors): nothing to optimize\n";
+    return 1;
+  }
   const double load_seconds = Seconds(start);
   const double file_chi2 = graph.Chi2();
   std::printf("loaded %s: %zu nodes, %zu factors, chi2 %.10g (%.3f s)\n",

@@ -164,6 +164,12 @@ TEST(ReliabilityTest, EmptyInputsAreErrors) {
     EXPECT_TRUE(Contains(run.err, "no records")) << run.err;
     EXPECT_FALSE(fs::exists(dir + "/out.g2o"));
   }
+  // Vertices without a single edge: nothing to optimize.
+  WriteText(dir + "/vertices.g2o", "VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 0\n");
+  const SlamRun vertices = RunIn(dir, "optimize -i " + dir + "/vertices.g2o");
+  EXPECT_EQ(vertices.code, 1) << vertices.out << vertices.err;
+  EXPECT_TRUE(Contains(vertices.err, "nothing to optimize")) << vertices.err;
+  EXPECT_FALSE(Contains(vertices.out, "-1 iterations")) << vertices.out;
   // Stereo VO: an empty factor file.
   WriteText(dir + "/calib.txt", "700 700 0 600 180 0.5\n");
   WriteText(dir + "/poses.txt", "1 1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1\n");
