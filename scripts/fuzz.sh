@@ -70,11 +70,15 @@ for f in configs/*.yaml configs/benchmarks/*.yaml; do
   for selector in 0 1 2 3 4; do seed config "$f" "$selector"; done
 done
 
+# The targets write each input to a scratch file: in memory when possible.
+fuzz_tmp="${TMPDIR:-/tmp}"
+if [ -d /dev/shm ] && [ -w /dev/shm ]; then fuzz_tmp=/dev/shm; fi
+
 failed=()
 for target in "${targets[@]}"; do
   mkdir -p "$work/$target/corpus"
   echo "fuzz_$target: ${seconds} s"
-  if ! "$build/fuzz/fuzz_$target" -max_total_time="$seconds" -timeout=10 \
+  if ! TMPDIR="$fuzz_tmp" "$build/fuzz/fuzz_$target" -max_total_time="$seconds" -timeout=10 \
       -rss_limit_mb=2048 -max_len=16384 -print_final_stats=1 \
       -artifact_prefix="$artifacts/" "$work/$target/corpus" \
       "$work/$target/seeds" > "$work/$target.log" 2>&1; then
