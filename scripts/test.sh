@@ -6,8 +6,8 @@
 # reader, writer and command tests under ASan + UBSan (build_asan/) and a
 # short libFuzzer run of every reader (build_fuzz/, SLAM_FUZZ_SECONDS per
 # target, default 30). Off by default: its two extra builds of the libraries
-# took over an hour on the shared 2-core CI machine (CI's budget is about 30
-# minutes).
+# took 32 + 38 minutes on the shared 2-core CI machine (README "Reliability";
+# CI's budget is about 30 minutes).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install_deps.sh
