@@ -242,11 +242,12 @@ bool ParseStampSeconds(const std::string& text, TimeNs* stamp) {
   for (; i < text.size() && std::isdigit(static_cast<unsigned char>(text[i]));
        ++i) {
     any_digit = true;
+    whole = whole * 10 + (text[i] - '0');
+    // Checked after the digit (fuzzing: "74480544800" overflowed below).
     if (whole > 9000000000ll) {
       plain = false;  // Too large for nanoseconds in int64.
       break;
     }
-    whole = whole * 10 + (text[i] - '0');
   }
   if (plain && i < text.size() && text[i] == '.') {
     ++i;

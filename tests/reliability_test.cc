@@ -124,6 +124,16 @@ TEST(ReliabilityTest, HexFloatsAreRejected) {
   EXPECT_TRUE(Contains(error, "s.relations:1:")) << error;
 }
 
+// Found by fuzz_trajectory (UBSan: signed overflow in the seconds to
+// nanoseconds conversion).
+TEST(ReliabilityTest, StampsBeyondTheNanosecondRangeAreRejected) {
+  TimeNs stamp = 0;
+  EXPECT_FALSE(ParseStampSeconds("74480544800", &stamp));
+  EXPECT_FALSE(ParseStampSeconds("9223372037", &stamp));
+  EXPECT_TRUE(ParseStampSeconds("9000000000.5", &stamp));
+  EXPECT_EQ(stamp, 9000000000500000000LL);
+}
+
 TEST(ReliabilityTest, ControlBytesOfTheInputAreNotEchoed) {
   const std::string dir = TempDir();
   WriteText(dir + "/t.tum", "1.0 \x1b[31mred\x1b[0m 0 0 0 0 0 1\n");
