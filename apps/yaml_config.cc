@@ -17,6 +17,13 @@ bool CheckKnownKeys(const YAML::Node& node,
     return false;
   }
   for (const auto& entry : node) {
+    // A mapping or a sequence as a key ("{a: 1}: x") is no setting name;
+    // as<std::string>() would throw (found by fuzz_config).
+    if (!entry.first.IsScalar()) {
+      *error = where + ":" + std::to_string(entry.first.Mark().line + 1) +
+               ": a key must be a plain name";
+      return false;
+    }
     const std::string key = entry.first.as<std::string>();
     bool found = false;
     for (const char* k : known) found = found || key == k;

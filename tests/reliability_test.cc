@@ -83,6 +83,29 @@ TEST(ReliabilityTest, UnreadableOrHugeConfigNamesTheReason) {
   EXPECT_FALSE(Contains(error, "bad.yaml:0:")) << error;
 }
 
+// Found by fuzz_config: a mapping or a sequence as a key made the loaders
+// throw (abort) instead of reporting the line.
+TEST(ReliabilityTest, ConfigKeysThatAreNotNamesAreErrors) {
+  const std::string dir = TempDir();
+  // (config, command reading it).
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"{a: 1}: x\n", "simulate -o "},
+      {"{a: 1}: x\n", "run --output_dir "},
+      {"simulate:\n  [a, b]: 2\n", "simulate -o "},
+      {"run:\n  scans:\n    {x: 1}: 2\n", "run --output_dir "}};
+  for (const auto& [text, command] : cases) {
+    WriteText(dir + "/c.yaml", text);
+    const SlamRun run =
+        RunIn(dir, command + dir + "/out --config " + dir + "/c.yaml");
+    EXPECT_TRUE(run.code == 1 || run.code == 2)
+        << text << command << ": exit " << run.code << "\n"
+        << run.err;
+    EXPECT_TRUE(Contains(run.err, "a key must be a plain name"))
+        << text << command << "\n"
+        << run.err;
+  }
+}
+
 // ---------------------------------------------------------------------------
 // Trajectory and relation readers: byte order mark, hex floats, escapes.
 
