@@ -45,6 +45,11 @@ bool LoadSection(const YAML::Node& node, const Section& section,
     return false;
   }
   for (const auto& entry : node) {
+    if (!entry.first.IsScalar()) {  // as<std::string>() would throw.
+      *error = where + ":" + std::to_string(entry.first.Mark().line + 1) +
+               ": a key must be a plain name";
+      return false;
+    }
     const std::string key = entry.first.as<std::string>();
     bool known = false;
     std::string list;

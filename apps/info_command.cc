@@ -10,6 +10,7 @@
 #include "datasets/g2o_io.h"
 
 DECLARE_bool(repair_information);
+DECLARE_bool(skip_unknown_tags);
 
 namespace slam {
 namespace {
@@ -49,6 +50,7 @@ int RunInfoCommand(const std::vector<std::string>& args) {
   Graph graph;
   GraphReadOptions options;
   options.repair_information = FLAGS_repair_information;
+  options.skip_unknown_tags = FLAGS_skip_unknown_tags;
   GraphReadReport report;
   std::string error;
   if (!ReadPoseGraph(args[0], options, &graph, &report, &error)) {

@@ -48,7 +48,9 @@
 
 #include "apps/commands.h"
 #include "apps/process_heap.h"
+#include "apps/safe_stderr.h"
 #include "apps/visual_forward.h"
+#include "datasets/atomic_file.h"
 #ifdef SLAM_VISUAL_COMMANDS
 #include "apps/visual/visual_commands.h"
 #endif
@@ -86,7 +88,7 @@ const std::map<std::string, Command>& Commands() {
        {slam::RunInfoCommand,
         "describe a graph file: slam info FILE",
         {"info_command.cc"},
-        {"repair_information"}}},
+        {"repair_information", "skip_unknown_tags"}}},
       {"eval",
        {slam::RunEvalCommand,
         "ATE/RPE of a trajectory: slam eval --ref GT --est EST [--plot DIR]",
@@ -198,6 +200,8 @@ void PrintCommandHelp(const std::string& name, const Command& command) {
 
 int main(int argc, char** argv) {
   slam::ConfigureProcessHeap();  // See apps/process_heap.h.
+  slam::FilterControlBytesOnStderr();
+  slam::FilterControlBytesOnStderr();
   if (argc < 2 || std::strcmp(argv[1], "--help") == 0 ||
       std::strcmp(argv[1], "-h") == 0 || std::strcmp(argv[1], "help") == 0) {
     PrintUsage();
@@ -242,5 +246,14 @@ int main(int argc, char** argv) {
     }
   }
   std::vector<std::string> args(rest_argv + 1, rest_argv + rest_argc);
-  return command.run(args);
+  // The outputs of a command are published only when it succeeds: a failed
+  // command leaves none of them behind (datasets/atomic_file.h).
+  slam::OutputStage outputs;
+  const int code = command.run(args);
+  std::string error;
+  if (code == 0 && !outputs.Commit(&error)) {
+    std::fprintf(stderr, "slam %s: %s\n", name.c_str(), error.c_str());
+    return 1;
+  }
+  return code;
 }

@@ -40,6 +40,9 @@ DEFINE_string(robust_landmark, "none",
               "robust kernel on the landmark and camera factors: none, "
               "huber:W, cauchy:W, geman_mcclure:W, dcs:PHI");
 DEFINE_string(o, "", "output file (optimize: graph, .g2o or .graph)");
+DEFINE_bool(skip_unknown_tags, false,
+            "optimize, info: skip input lines whose tag is not read (with a "
+            "warning per tag, as g2o does) instead of failing");
 DEFINE_string(init, "auto",
               "initial guess: auto, none, odometry, spanning_tree, chordal");
 DEFINE_string(solver, "lm", "lm, gn or dogleg");
@@ -398,6 +401,10 @@ int RunOptimizeCommand(const std::vector<std::string>& args) {
                 << parent.string() << " does not exist\n";
       return 1;
     }
+    if (std::filesystem::is_directory(out)) {
+      std::cerr << "slam optimize: " << out << ": is a directory\n";
+      return 1;
+    }
   }
   TrajectoryData gt;
   if (!FLAGS_gt.empty() && !ReadTrajectory(FLAGS_gt, {}, &gt, &error)) {
@@ -409,6 +416,7 @@ int RunOptimizeCommand(const std::vector<std::string>& args) {
   Graph graph;
   GraphReadOptions read_options;
   read_options.repair_information = config.repair_information;
+  read_options.skip_unknown_tags = FLAGS_skip_unknown_tags;
   GraphReadReport read_report;
   const bool stereo_vo =
       !FLAGS_stereo_calibration.empty() || !FLAGS_stereo_poses.empty();
@@ -438,6 +446,11 @@ int RunOptimizeCommand(const std::vector<std::string>& args) {
   if (read_report.repaired_information > 0) {
     std::cerr << "repaired " << read_report.repaired_information
               << " information matrices that were not positive definite\n";
+  }
+  if (graph.NumFactors() == 0) {
+    std::cerr << "slam optimize: " << input
+              << ": no edges (factors): nothing to optimize\n";
+    return 1;
   }
   const double load_seconds = Seconds(start);
   const double file_chi2 = graph.Chi2();

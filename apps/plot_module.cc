@@ -8,6 +8,8 @@
 #include <mutex>
 #include <vector>
 
+#include "datasets/atomic_file.h"
+
 namespace slam {
 namespace {
 
@@ -46,6 +48,12 @@ bool LoadPlotModuleSymbol(const char* name, void** symbol, std::string* error) {
   if (handle == nullptr) {
     *error = load_error;
     return false;
+  }
+  // The module has its own copy of datasets/atomic_file.cc: its writes join
+  // the caller's output stage (published or discarded with the command's).
+  using SetStage = void (*)(OutputStage*);
+  if (void* set_stage = dlsym(handle, "SlamSetOutputStage")) {
+    reinterpret_cast<SetStage>(set_stage)(OutputStage::Current());
   }
   *symbol = dlsym(handle, name);
   if (*symbol == nullptr) {

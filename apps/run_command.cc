@@ -13,6 +13,7 @@
 // enabled. Progress bars while reading and processing; a summary at the end.
 #include <gflags/gflags.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -45,6 +46,46 @@ namespace slam {
 namespace {
 
 namespace fs = std::filesystem;
+
+// The scan trajectory as trajectory.tum and the relation evaluation want it:
+// sorted by stamp (stable: log order among equal stamps), one pose per
+// stamp (the first scan of the log with it). *duplicates: poses dropped.
+Trajectory SortedByStamp(Trajectory trajectory, int64_t* duplicates) {
+  std::stable_sort(trajectory.begin(), trajectory.end(),
+                   [](const StampedPose& a, const StampedPose& b) {
+                     return a.stamp < b.stamp;
+                   });
+  const size_t before = trajectory.size();
+  trajectory.erase(std::unique(trajectory.begin(), trajectory.end(),
+                               [](const StampedPose& a, const StampedPose& b) {
+                                 return a.stamp == b.stamp;
+                               }),
+                   trajectory.end());
+  *duplicates = static_cast<int64_t>(before - trajectory.size());
+  return trajectory;
+}
+
+// Relations that can match a scan: both stamps within the log's scan
+// stamps. None: a relations file of another log.
+bool CheckRelationsMatchLog(const std::string& path,
+                            const std::vector<PoseRelation>& relations,
+                            const CarmenLog& log, std::string* error) {
+  TimeNs first = log.scans.front().stamp, last = first;
+  for (const LaserScan& scan : log.scans) {
+    first = std::min(first, scan.stamp);
+    last = std::max(last, scan.stamp);
+  }
+  for (const PoseRelation& r : relations) {
+    if (std::min(r.t1, r.t2) >= first && std::max(r.t1, r.t2) <= last) {
+      return true;
+    }
+  }
+  *error = path + ": none of the " + std::to_string(relations.size()) +
+           " relations lies within the scan stamps of the log (" +
+           FormatStampSeconds(first) + " .. " + FormatStampSeconds(last) +
+           " s): the relations of another log?";
+  return false;
+}
 
 double Since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
@@ -148,10 +189,20 @@ int RunRunCommand(const std::vector<std::string>& args) {
     return 1;
   }
   std::vector<PoseRelation> relations;
-  if (!config.relations.empty() &&
-      !ReadRelations(ResolveDatasetPath(config.relations), &relations,
-                     &error)) {
-    std::cerr << error << "\n";
+  if (!config.relations.empty()) {
+    const std::string path = ResolveDatasetPath(config.relations);
+    if (!ReadRelations(path, &relations, &error) ||
+        !CheckRelationsMatchLog(path, relations, log, &error)) {
+      std::cerr << error << "\n";
+      return 1;
+    }
+  }
+  // Fail before the work on an output folder that cannot be made.
+  std::error_code ec;
+  fs::create_directories(config.output_dir, ec);
+  if (ec) {
+    std::cerr << config.output_dir
+              << ": cannot create directory: " << ec.message() << "\n";
     return 1;
   }
   const double read_seconds = Since(start);
@@ -168,19 +219,17 @@ int RunRunCommand(const std::vector<std::string>& args) {
   slam.Finish();
   const double slam_seconds = Since(slam_start);
 
-  std::error_code ec;
-  fs::create_directories(config.output_dir, ec);
-  if (ec) {
-    std::cerr << config.output_dir
-              << ": cannot create directory: " << ec.message() << "\n";
-    return 1;
-  }
   const std::string trajectory_path =
       (fs::path(config.output_dir) / "trajectory.tum").string();
   const std::string graph_path =
       (fs::path(config.output_dir) / "graph.g2o").string();
-  if (!WriteTrajectory(trajectory_path, slam.ScanTrajectory(),
-                       TrajectoryFormat::kTum, &error) ||
+  // Logs whose stamps go backwards are processed in log order; the
+  // trajectory file is sorted by stamp so that `slam eval` can use it.
+  int64_t duplicate_stamps = 0;
+  const Trajectory trajectory =
+      SortedByStamp(slam.ScanTrajectory(), &duplicate_stamps);
+  if (!WriteTrajectory(trajectory_path, trajectory, TrajectoryFormat::kTum,
+                       &error) ||
       !WriteG2o(graph_path, slam.graph(), &error)) {
     std::cerr << error << "\n";
     return 1;
@@ -215,11 +264,20 @@ int RunRunCommand(const std::vector<std::string>& args) {
       s.loop_seconds, s.optimization_seconds, s.refine_seconds);
   std::printf("run: wrote %s, %s\n", trajectory_path.c_str(),
               graph_path.c_str());
+  if (log.scans_out_of_order > 0 || duplicate_stamps > 0) {
+    std::printf(
+        "run: %lld of %zu scans have a stamp not after the previous one in "
+        "the log (processed in log order); trajectory.tum is sorted by stamp, "
+        "%lld scan(s) with a stamp already taken dropped from it (the first "
+        "scan in the log with each stamp kept)\n",
+        static_cast<long long>(log.scans_out_of_order), log.scans.size(),
+        static_cast<long long>(duplicate_stamps));
+  }
   if (!map_summary.empty()) std::printf("run: %s\n", map_summary.c_str());
   if (!relations.empty()) {
     RelationErrorResult r;
-    if (!ComputeRelationError(slam.ScanTrajectory(), relations,
-                              RelationErrorOptions(), &r, &error)) {
+    if (!ComputeRelationError(trajectory, relations, RelationErrorOptions(), &r,
+                              &error)) {
       std::cerr << error << "\n";
       return 1;
     }

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <initializer_list>
 #include <string_view>
 #include <tuple>
 #include <utility>
@@ -18,6 +19,7 @@ namespace {
 
 constexpr double kDegree = M_PI / 180.0;
 constexpr int64_t kMaxReadings = 1 << 20;
+constexpr double kMaxCoordinate = 1e7;  // Metres.
 // Progress is reported about this many times per phase.
 constexpr int kProgressSteps = 100;
 
@@ -54,7 +56,17 @@ class Parser {
 
   bool Parse(std::string_view text, const ProgressCallback& progress,
              double progress_start, std::string* error) {
-    text::LineTokenizer tokenizer(text);
+    if (!ParseLines(text, 0, progress, progress_start, error)) return false;
+    Finish();
+    if (progress) progress(1.0);
+    return true;
+  }
+
+  // Parses whole lines that follow `lines_before` lines of the log.
+  bool ParseLines(std::string_view text, int64_t lines_before,
+                  const ProgressCallback& progress, double progress_start,
+                  std::string* error) {
+    text::LineTokenizer tokenizer(text, lines_before);
     size_t next_report = 0;
     const size_t step = std::max<size_t>(1, text.size() / kProgressSteps);
     while (tokenizer.Next()) {
@@ -75,16 +87,39 @@ class Parser {
         return false;
       }
     }
+    return true;
+  }
+
+  // The warnings about the whole log.
+  void Finish() {
     for (const auto& [tag, count] : skipped_) {
       log_->warnings.push_back(name_ + ": skipped " + std::to_string(count) +
                                " " + tag + " line(s) (tag not read)");
     }
-    if (progress) progress(1.0);
-    return true;
+    const std::vector<LaserScan>& scans = log_->scans;
+    for (size_t i = 1; i < scans.size(); ++i) {
+      if (scans[i].stamp <= scans[i - 1].stamp) ++log_->scans_out_of_order;
+    }
+    if (log_->scans_out_of_order > 0) {
+      log_->warnings.push_back(
+          name_ + ": " + std::to_string(log_->scans_out_of_order) + " of " +
+          std::to_string(scans.size()) +
+          " laser scans have a stamp not after the previous scan's (first at "
+          "line " +
+          std::to_string(FirstOutOfOrderLine()) + "); processed in log order");
+    }
   }
 
  private:
   using Tokens = std::vector<std::string_view>;
+
+  int FirstOutOfOrderLine() const {
+    const std::vector<LaserScan>& scans = log_->scans;
+    for (size_t i = 1; i < scans.size(); ++i) {
+      if (scans[i].stamp <= scans[i - 1].stamp) return scans[i].line;
+    }
+    return 0;
+  }
 
   bool ParseLine(const Tokens& tokens, std::string* problem) {
     const std::string_view tag = tokens[0];
@@ -135,6 +170,23 @@ class Parser {
     return true;
   }
 
+  // Pose coordinates (x, y of each pose in values[0..]) no robot reaches:
+  // beyond kMaxCoordinate metres the grids and maps cannot hold them.
+  bool CheckCoordinates(const Tokens& tokens, size_t first_field,
+                        const double* values, std::initializer_list<int> xy,
+                        std::string* problem) {
+    for (int k : xy) {
+      if (std::abs(values[k]) > kMaxCoordinate) {
+        *problem = "coordinate '" + text::Printable(tokens[first_field + k]) +
+                   "' in field " + std::to_string(first_field + k) + " of " +
+                   text::Printable(tokens[0]) +
+                   " is beyond 1e7 m (10000 km) from the origin";
+        return false;
+      }
+    }
+    return true;
+  }
+
   // The trailing "ipc_timestamp host logger_timestamp" of a message.
   bool ParseTrailer(const Tokens& tokens, TimeNs* stamp, std::string* problem) {
     const size_t n = tokens.size();
@@ -157,7 +209,10 @@ class Parser {
   bool ParseOdom(const Tokens& tokens, std::string* problem) {
     if (!text::CheckFieldCount(tokens, 9, problem)) return false;
     double v[6];
-    if (!text::ParseDoubles(tokens, 1, 6, v, problem)) return false;
+    if (!text::ParseDoubles(tokens, 1, 6, v, problem) ||
+        !CheckCoordinates(tokens, 1, v, {0, 1}, problem)) {
+      return false;
+    }
     OdometryReading odom;
     if (!ParseTrailer(tokens, &odom.stamp, problem)) return false;
     odom.pose = Pose2(v[0], v[1], v[2]);
@@ -208,6 +263,7 @@ class Parser {
     if (!ParseRanges(tokens, 2, n, &scan.ranges, problem)) return false;
     double v[6];
     if (!text::ParseDoubles(tokens, 2 + n, 6, v, problem) ||
+        !CheckCoordinates(tokens, 2 + n, v, {0, 1, 3, 4}, problem) ||
         !ParseTrailer(tokens, &scan.stamp, problem)) {
       return false;
     }
@@ -248,6 +304,8 @@ class Parser {
     if (!text::ParseDoubles(tokens, 10 + n, n_rem, remissions.data(),
                             problem) ||
         !text::ParseDoubles(tokens, 10 + n + n_rem, 6, poses, problem) ||
+        !CheckCoordinates(tokens, 10 + n + n_rem, poses, {0, 1, 3, 4},
+                          problem) ||
         !text::ParseDoubles(tokens, 16 + n + n_rem, 5, rest, problem) ||
         !ParseTrailer(tokens, &scan.stamp, problem)) {
       return false;
@@ -341,62 +399,6 @@ void AppendScan(const LaserScan& scan, std::string* out) {
 
 }  // namespace
 
-bool Bzip2Decompress(const std::string& name, const std::string& compressed,
-                     std::string* text, std::string* error,
-                     const ProgressCallback& progress) {
-  text->clear();
-  text->resize(std::max<size_t>(compressed.size() * 8, 1 << 16));
-  size_t produced = 0;
-  size_t consumed = 0;
-  size_t next_report = 0;
-  const size_t step = std::max<size_t>(1, compressed.size() / kProgressSteps);
-  // One iteration per bzip2 stream (pbzip2 writes several).
-  while (consumed < compressed.size()) {
-    bz_stream stream{};
-    if (BZ2_bzDecompressInit(&stream, 0, 0) != BZ_OK) {
-      *error = name + ": cannot start bzip2 decompression";
-      return false;
-    }
-    stream.next_in = const_cast<char*>(compressed.data() + consumed);
-    stream.avail_in = static_cast<unsigned int>(
-        std::min<size_t>(compressed.size() - consumed, 1u << 30));
-    int status = BZ_OK;
-    while (status == BZ_OK) {
-      if (produced == text->size()) text->resize(text->size() * 2);
-      const size_t room = std::min<size_t>(text->size() - produced, 1u << 30);
-      stream.next_out = text->data() + produced;
-      stream.avail_out = static_cast<unsigned int>(room);
-      const unsigned int in_before = stream.avail_in;
-      status = BZ2_bzDecompress(&stream);
-      produced += room - stream.avail_out;
-      consumed += in_before - stream.avail_in;
-      if (progress && consumed >= next_report) {
-        progress(0.5 * static_cast<double>(consumed) /
-                 static_cast<double>(compressed.size()));
-        next_report = consumed + step;
-      }
-      if (status == BZ_OK && stream.avail_in == 0 && stream.avail_out == room) {
-        status = BZ_UNEXPECTED_EOF;  // No progress and no more input.
-      }
-    }
-    BZ2_bzDecompressEnd(&stream);
-    if (status != BZ_STREAM_END) {
-      *error =
-          name + ": corrupt or truncated bzip2 data (" +
-          (status == BZ_UNEXPECTED_EOF ? std::string("unexpected end")
-                                       : "error " + std::to_string(status)) +
-          ")";
-      text->clear();
-      return false;
-    }
-    // Trailing bytes that are not another stream (e.g. zero padding) end
-    // the data.
-    if (!IsBzip2(compressed.substr(consumed, 4))) break;
-  }
-  text->resize(produced);
-  return true;
-}
-
 bool ParseCarmenLog(const std::string& name, const std::string& text,
                     const CarmenReadOptions& options, CarmenLog* log,
                     std::string* error, ProgressCallback progress) {
@@ -409,21 +411,115 @@ bool ParseCarmenLog(const std::string& name, const std::string& text,
   return true;
 }
 
+namespace {
+
+// Decompresses bzip2 data (one or more concatenated streams) piece by piece,
+// parsing every complete line as soon as it is out: memory holds the
+// compressed file, one piece and one partial line, never the whole text.
+bool ParseBzip2Log(const std::string& name, const std::string& compressed,
+                   const CarmenReadOptions& options, Parser* parser,
+                   const ProgressCallback& progress, std::string* error) {
+  constexpr size_t kPiece = 1 << 20;
+  std::string pending;  // Decompressed text not parsed yet (a partial line).
+  std::vector<char> out(kPiece);
+  uint64_t produced = 0;
+  int64_t lines = 0;
+  size_t consumed = 0;
+  size_t next_report = 0;
+  const size_t step = std::max<size_t>(1, compressed.size() / kProgressSteps);
+  // Parses the complete lines of `pending`; all of it when `last`.
+  auto parse_pending = [&](bool last) {
+    const size_t newline = pending.rfind('\n');
+    const size_t end = last ? pending.size()
+                            : (newline == std::string::npos ? 0 : newline + 1);
+    if (end == 0) {
+      if (pending.size() > options.max_line_bytes) {
+        *error = name + ":" + std::to_string(lines + 1) +
+                 ": a line longer than " +
+                 std::to_string(options.max_line_bytes) + " bytes";
+        return false;
+      }
+      return true;
+    }
+    const std::string_view text(pending.data(), end);
+    if (!parser->ParseLines(text, lines, nullptr, 0.0, error)) return false;
+    lines += std::count(text.begin(), text.end(), '\n');
+    pending.erase(0, end);
+    return true;
+  };
+  while (consumed < compressed.size()) {
+    bz_stream stream{};
+    if (BZ2_bzDecompressInit(&stream, 0, 0) != BZ_OK) {
+      *error = name + ": cannot start bzip2 decompression";
+      return false;
+    }
+    stream.next_in = const_cast<char*>(compressed.data() + consumed);
+    stream.avail_in = static_cast<unsigned int>(
+        std::min<size_t>(compressed.size() - consumed, 1u << 30));
+    int status = BZ_OK;
+    while (status == BZ_OK) {
+      stream.next_out = out.data();
+      stream.avail_out = static_cast<unsigned int>(out.size());
+      const unsigned int in_before = stream.avail_in;
+      status = BZ2_bzDecompress(&stream);
+      const size_t got = out.size() - stream.avail_out;
+      consumed += in_before - stream.avail_in;
+      produced += got;
+      if (produced > options.max_log_bytes) {
+        BZ2_bzDecompressEnd(&stream);
+        *error = name + ": decompresses to more than " +
+                 std::to_string(options.max_log_bytes) +
+                 " bytes (a bzip2 bomb? CarmenReadOptions::max_log_bytes)";
+        return false;
+      }
+      pending.append(out.data(), got);
+      if (!parse_pending(false)) {
+        BZ2_bzDecompressEnd(&stream);
+        return false;
+      }
+      if (progress && consumed >= next_report) {
+        progress(static_cast<double>(consumed) /
+                 static_cast<double>(compressed.size()));
+        next_report = consumed + step;
+      }
+      if (status == BZ_OK && stream.avail_in == 0 && got == 0) {
+        status = BZ_UNEXPECTED_EOF;  // No progress and no more input.
+      }
+    }
+    BZ2_bzDecompressEnd(&stream);
+    if (status != BZ_STREAM_END) {
+      *error =
+          name + ": corrupt or truncated bzip2 data (" +
+          (status == BZ_UNEXPECTED_EOF ? std::string("unexpected end")
+                                       : "error " + std::to_string(status)) +
+          ")";
+      return false;
+    }
+    // Trailing bytes that are not another stream (e.g. zero padding) end
+    // the data.
+    if (!IsBzip2(compressed.substr(consumed, 4))) break;
+  }
+  if (!parse_pending(true)) return false;
+  parser->Finish();
+  if (progress) progress(1.0);
+  return true;
+}
+
+}  // namespace
+
 bool ReadCarmenLog(const std::string& path, const CarmenReadOptions& options,
                    CarmenLog* log, std::string* error,
                    ProgressCallback progress) {
   *log = CarmenLog();
   std::string data;
-  if (!text::ReadWholeFile(path, &data, error)) return false;
-  double parse_start = 0.0;
-  if (IsBzip2(data)) {
-    std::string plain;
-    if (!Bzip2Decompress(path, data, &plain, error, progress)) return false;
-    data.swap(plain);
-    parse_start = 0.5;
+  if (!text::ReadWholeFile(path, &data, error, options.max_log_bytes)) {
+    return false;
   }
   Parser parser(path, options, log);
-  if (!parser.Parse(data, progress, parse_start, error)) {
+  const bool ok = IsBzip2(data) ? ParseBzip2Log(path, data, options, &parser,
+                                                progress, error)
+                                : parser.Parse(data, progress, 0.0, error);
+  if (!ok) {
     *log = CarmenLog();
     return false;
   }

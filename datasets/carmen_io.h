@@ -1,6 +1,6 @@
 // Reading and writing CARMEN robot logs (.clf / .log, plain or compressed with
 // bzip2; the compression is detected by the "BZh" magic, not by the name, and
-// the file is decompressed in memory).
+// the data is decompressed piece by piece while it is parsed).
 //
 // Lines (fields separated by white space; each message line ends with
 // "ipc_timestamp ipc_hostname logger_timestamp", the stamps in seconds):
@@ -44,8 +44,9 @@
 //   silently; lasers not selected in the options are skipped silently.
 //
 // Errors: "PATH:LINE: problem" for a wrong field count, a bad, non-finite or
-// negative number; "PATH: problem" for an unreadable or corrupt file. Nothing
-// is returned on error (the log is left empty).
+// negative number, a pose coordinate beyond 1e7 m; "PATH: problem" for an
+// unreadable or corrupt file. Nothing is returned on error (the log is left
+// empty).
 #ifndef SLAM_DATASETS_CARMEN_IO_H_
 #define SLAM_DATASETS_CARMEN_IO_H_
 
@@ -83,7 +84,12 @@ struct OdometryReading {
 };
 
 struct CarmenLog {
-  std::vector<LaserScan> scans;  // In file order.
+  // In file order, also where stamps go backwards (real logs have that:
+  // intel.clf, 631 of 13631 scans): the order is the order of acquisition.
+  std::vector<LaserScan> scans;
+  // Scans whose stamp is not after the previous scan's (of any selected
+  // laser); a warning says how many. Writers of stamped outputs must sort.
+  int64_t scans_out_of_order = 0;
   std::vector<OdometryReading> odometry;
   std::map<std::string, std::string> params;  // Last value of each PARAM.
   std::vector<std::string> warnings;
@@ -96,6 +102,13 @@ struct CarmenReadOptions {
   // FLASER/RLASER maximum range without a robot_*_laser_max PARAM (the SICK
   // LMS reports 81.91 m for "no return").
   double default_max_range = 81.9;
+  // Bounds on what a log may make the reader hold: the text of the log
+  // (after bzip2 decompression, which is streamed: a 13 KB bomb that
+  // decompresses to 12 GB is stopped here) and one line. The largest public
+  // CARMEN logs are a few hundred MB; a ROBOTLASER1 line of 2^20 readings
+  // is about 10 MB.
+  uint64_t max_log_bytes = uint64_t{2} << 30;  // 2 GiB.
+  size_t max_line_bytes = size_t{64} << 20;    // 64 MiB.
 };
 
 bool ReadCarmenLog(const std::string& path, const CarmenReadOptions& options,
@@ -117,12 +130,6 @@ bool ParseCarmenLog(const std::string& name, const std::string& text,
 // Through a temporary file and a rename (datasets/atomic_file.h).
 bool WriteCarmenLog(const std::string& path, const CarmenLog& log,
                     std::string* error);
-
-// bzip2-decompresses `compressed` (one or more concatenated streams).
-// Error: "NAME: problem".
-bool Bzip2Decompress(const std::string& name, const std::string& compressed,
-                     std::string* text, std::string* error,
-                     const ProgressCallback& progress = nullptr);
 
 }  // namespace slam
 

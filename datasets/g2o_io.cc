@@ -335,8 +335,7 @@ bool ParseLine(const std::vector<std::string_view>& tokens, int64_t line,
     }
     return true;
   }
-  builder->SkipUnknownTag(tag);
-  return true;
+  return builder->UnknownTag(line, tag, error);
 }
 
 // kEdges: EDGE2/EDGE3, which TORO and iSAM both use (with information and
@@ -402,8 +401,7 @@ bool ReadG2oFromText(const std::string& name, std::string_view text,
                                problem, error)) {
           return false;
         }
-        if (!handled) builder.SkipUnknownTag(tokens[0]);
-        return true;
+        return handled || builder.UnknownTag(line, tokens[0], error);
       };
   // Second pass: everything else.
   const text::RecordParser parse =

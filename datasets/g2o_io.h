@@ -112,6 +112,10 @@ struct GraphReadOptions {
   // create those nodes and initialize only them from the edges (spanning
   // tree), instead of failing with "unknown vertex id N".
   bool allow_missing_vertices = false;
+  // Skip lines whose tag the reader does not know, with one warning per tag
+  // (what g2o does), instead of failing with "PATH:LINE: unknown tag": a
+  // misspelt tag must not silently drop a record.
+  bool skip_unknown_tags = false;
 };
 
 struct GraphReadReport {

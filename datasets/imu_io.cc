@@ -162,6 +162,28 @@ bool AllFinite(const InertialData& data) {
          data.initial_state.velocity.allFinite();
 }
 
+// An IMU reading no IMU produces: "PATH:LINE: accelerometer reading
+// 9.2e18 m/s^2 (field 5) is beyond 2000 m/s^2".
+bool CheckImuRanges(const CsvLines& csv, const Eigen::Vector3d& accel,
+                    int accel_field, const Eigen::Vector3d& gyro,
+                    int gyro_field, const std::string& path,
+                    std::string* error) {
+  for (int k = 0; k < 3; ++k) {
+    const bool bad_accel = std::abs(accel[k]) > kMaxImuAccel;
+    if (bad_accel || std::abs(gyro[k]) > kMaxImuGyro) {
+      const int field = (bad_accel ? accel_field : gyro_field) + k;
+      *error = Where(path, csv.line()) +
+               (bad_accel ? "accelerometer" : "gyroscope") + " reading '" +
+               text::Printable(csv.fields()[field - 1]) + "' " +
+               (bad_accel ? "m/s^2" : "rad/s") + " (field " +
+               std::to_string(field) + ") is beyond what an IMU measures (" +
+               (bad_accel ? "2000 m/s^2" : "100 rad/s") + ")";
+      return false;
+    }
+  }
+  return true;
+}
+
 template <typename T>
 bool StrictlyIncreasing(const std::vector<T>& v) {
   for (size_t k = 1; k < v.size(); ++k) {
@@ -218,6 +240,9 @@ bool ReadGtsamImuCsv(const std::string& path, double imu_dt, InertialData* data,
       s.stamp = SecondsToNs(static_cast<double>(num_imu) * imu_dt);
       s.accel = Eigen::Vector3d(v[0], v[1], v[2]);
       s.gyro = Eigen::Vector3d(v[3], v[4], v[5]);
+      if (!CheckImuRanges(csv, s.accel, 2, s.gyro, 5, path, error)) {
+        return false;
+      }
       out.imu.push_back(s);
       ++num_imu;
     } else if (type == "1") {
@@ -248,6 +273,10 @@ bool ReadGtsamImuCsv(const std::string& path, double imu_dt, InertialData* data,
   }
   if (!out.has_initial_state) {
     *error = path + ": no initial state row";
+    return false;
+  }
+  if (out.imu.empty()) {
+    *error = path + ": no IMU rows ('0,ax,ay,az,wx,wy,wz')";
     return false;
   }
   *data = std::move(out);
@@ -330,15 +359,37 @@ bool ReadEurocInertial(const std::string& folder, InertialData* data,
     *error = folder + ": no mav0/imu0/data.csv (not an EuRoC folder)";
     return false;
   }
-  if (!ReadStampedRows(imu_path, 7, "an IMU row", error,
-                       [&](TimeNs stamp, const double* v, const CsvLines&) {
-                         ImuSample s;
-                         s.stamp = stamp;
-                         s.gyro = Eigen::Vector3d(v[0], v[1], v[2]);
-                         s.accel = Eigen::Vector3d(v[3], v[4], v[5]);
-                         out.imu.push_back(s);
-                         return true;
-                       })) {
+  if (!ReadStampedRows(
+          imu_path, 7, "an IMU row", error,
+          [&](TimeNs stamp, const double* v, const CsvLines& csv) {
+            ImuSample s;
+            s.stamp = stamp;
+            s.gyro = Eigen::Vector3d(v[0], v[1], v[2]);
+            s.accel = Eigen::Vector3d(v[3], v[4], v[5]);
+            if (!CheckImuRanges(csv, s.accel, 5, s.gyro, 2, imu_path, error)) {
+              return false;
+            }
+            // Stamps increase (checked): the unsigned
+            // difference cannot overflow.
+            const uint64_t gap =
+                out.imu.empty()
+                    ? 0
+                    : static_cast<uint64_t>(stamp) -
+                          static_cast<uint64_t>(out.imu.back().stamp);
+            if (gap > static_cast<uint64_t>(kMaxImuGap)) {
+              *error = Where(imu_path, csv.line()) + "a gap of " +
+                       std::to_string(static_cast<double>(gap) * 1e-9) +
+                       " s since the previous IMU reading "
+                       "(more than 1 s of missing IMU data)";
+              return false;
+            }
+            out.imu.push_back(s);
+            return true;
+          })) {
+    return false;
+  }
+  if (out.imu.empty()) {
+    *error = imu_path + ": no IMU readings";
     return false;
   }
 

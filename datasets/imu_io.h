@@ -51,6 +51,11 @@
 //
 // Errors: "PATH:LINE: problem" (wrong field count, bad number, unknown row
 // type, non-increasing stamp, zero quaternion), or "PATH: problem".
+// Readings no IMU produces are errors at reading time, with the value:
+// an accelerometer component beyond kMaxImuAccel, a gyroscope component
+// beyond kMaxImuGyro, a gap of more than kMaxImuGap between IMU readings
+// (missing data the preintegration would bridge with one reading). A file
+// without IMU readings is an error.
 #ifndef SLAM_DATASETS_IMU_IO_H_
 #define SLAM_DATASETS_IMU_IO_H_
 
@@ -92,6 +97,12 @@ struct InertialData {
   NavState initial_state;
   Eigen::Vector3d gravity = DefaultGravity();
 };
+
+// Plausibility bounds of IMU readings (consumer and tactical IMUs saturate
+// at 16-200 g and 2000-5000 deg/s).
+constexpr double kMaxImuAccel = 2000.0;    // m/s^2, about 200 g.
+constexpr double kMaxImuGyro = 100.0;      // rad/s, about 5700 deg/s.
+constexpr TimeNs kMaxImuGap = 1000000000;  // 1 s.
 
 // The sample period of the GTSAM example file (ImuFactorsExample.cpp).
 constexpr double kGtsamImuDt = 0.005;

@@ -220,7 +220,7 @@ bool ParseLine(const std::vector<std::string_view>& tokens, int64_t line,
   }
   if (tag == "SOLVE" || tag == "EDGE3_INIT" || tag == "POSE3D_TRUE" ||
       tag == "EDGE3_TRUE") {
-    builder->SkipUnknownTag(tag);  // iSAM's own bookkeeping: no factor.
+    builder->SkipTag(tag);  // iSAM's own bookkeeping: no factor.
     return true;
   }
   if (tag == "CAMERA_STEREO" || tag == "POINT_STEREO") {

@@ -216,6 +216,12 @@ bool ReadStereoVo(const std::string& factors_path,
     }
     ++report->measurements;
   }
+  if (report->measurements == 0) {
+    *error = factors_path +
+             ": no stereo factors (lines 'pose landmark uL uR v X Y Z'): "
+             "nothing to optimize";
+    return false;
+  }
   report->poses = static_cast<int>(poses.size());
   report->calibration = calibration;
   *graph = std::move(result);

@@ -34,7 +34,7 @@ enum class NumberStatus { kOk, kBad, kNonFinite, kOutOfRange };
 }  // namespace
 
 bool ReadWholeFile(const std::string& path, std::string* contents,
-                   std::string* error) {
+                   std::string* error, size_t max_bytes) {
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) {
     *error = path + ": cannot open: " + ErrnoText(errno);
@@ -67,6 +67,12 @@ bool ReadWholeFile(const std::string& path, std::string* contents,
       return false;
     }
     if (n == 0) break;
+    if (static_cast<size_t>(n) > max_bytes - contents->size()) {
+      ::close(fd);
+      contents->clear();
+      *error = path + ": larger than " + std::to_string(max_bytes) + " bytes";
+      return false;
+    }
     contents->append(buffer, static_cast<size_t>(n));
   }
   ::close(fd);
@@ -554,7 +560,20 @@ void PoseGraphBuilder::AddFix(int64_t line, int64_t id) {
   fixes_.emplace_back(line, id);
 }
 
-void PoseGraphBuilder::SkipUnknownTag(std::string_view tag) {
+bool PoseGraphBuilder::UnknownTag(int64_t line, std::string_view tag,
+                                  std::string* error) {
+  if (!options_.skip_unknown_tags) {
+    *error = LineError(line, "unknown tag '" + Printable(tag) +
+                                 "' (a misspelt tag? --skip_unknown_tags "
+                                 "skips lines with tags not read, as g2o "
+                                 "does)");
+    return false;
+  }
+  SkipTag(tag);
+  return true;
+}
+
+void PoseGraphBuilder::SkipTag(std::string_view tag) {
   for (auto& [name, count] : unknown_tags_) {
     if (name == tag) {
       ++count;
@@ -576,6 +595,14 @@ bool PoseGraphBuilder::Finish(Graph* graph, GraphReadReport* report,
                               std::string* error) {
   if (graph->NumNodes() != 0 || graph->NumFactors() != 0) {
     *error = name_ + ": the graph to read into is not empty";
+    return false;
+  }
+  if (vertices_.empty() && points_.empty() && factors_.empty() &&
+      fixes_.empty()) {
+    *error = name_ + ": no records (the file is empty" +
+             (unknown_tags_.empty() ? std::string(" or only comments")
+                                    : std::string(" but for skipped tags")) +
+             "): nothing to read";
     return false;
   }
   Graph result;

@@ -23,18 +23,32 @@
 
 namespace slam::text {
 
-// Reads the whole file into *contents. Error: "PATH: cannot open: reason".
+// Reads the whole file into *contents. Error: "PATH: cannot open: reason",
+// or "PATH: larger than N bytes" past max_bytes (a bound for inputs that
+// must be small, such as configs; /dev/zero never ends).
 bool ReadWholeFile(const std::string& path, std::string* contents,
-                   std::string* error);
+                   std::string* error, size_t max_bytes = SIZE_MAX);
 
 // Splits text into lines ('\n'; a trailing '\r' is whitespace) and each line
 // into tokens separated by spaces, tabs, '\r', '\v' or '\f'. A token starting
 // with '#' starts a comment that runs to the end of the line. A UTF-8 byte
 // order mark at the start of the text is skipped.
+// 3 if `text` starts with a UTF-8 byte order mark (skipped by every reader),
+// else 0.
+inline size_t Utf8BomLength(std::string_view text) {
+  return text.substr(0, 3) == "\xEF\xBB\xBF" ? 3 : 0;
+}
+
 class LineTokenizer {
  public:
   explicit LineTokenizer(std::string_view text)
-      : text_(text), pos_(text.substr(0, 3) == "\xEF\xBB\xBF" ? 3 : 0) {}
+      : text_(text), pos_(Utf8BomLength(text)) {}
+  // A later piece of a text read in pieces (whole lines), after
+  // `lines_before` lines: numbering goes on from there, no mark is skipped.
+  LineTokenizer(std::string_view text, int64_t lines_before)
+      : text_(text),
+        pos_(lines_before == 0 ? Utf8BomLength(text) : 0),
+        line_(lines_before) {}
 
   // Advances to the next line with at least one token; false at the end.
   bool Next();
@@ -174,12 +188,17 @@ class PoseGraphBuilder {
                         std::string* error);
   // FIX of one id; resolved in Finish.
   void AddFix(int64_t line, int64_t id);
-  // A line whose tag the reader does not know.
-  void SkipUnknownTag(std::string_view tag);
+  // A line whose tag the reader does not know: an error ("NAME:LINE: unknown
+  // tag"), or counted and skipped with options.skip_unknown_tags.
+  bool UnknownTag(int64_t line, std::string_view tag, std::string* error);
+  // A line of the format that the reader does not read (TORO's EQUIV):
+  // counted and skipped with a warning.
+  void SkipTag(std::string_view tag);
 
   // Creates the nodes, the factors, applies the FIX lines, initializes the
   // nodes without vertex, fills the report and moves the result into *graph
-  // (which must be empty).
+  // (which must be empty). A file without a single record (empty, only
+  // comments or skipped tags) is an error: there is nothing to do.
   bool Finish(Graph* graph, GraphReadReport* report, std::string* error);
 
   // "NAME:LINE: problem".

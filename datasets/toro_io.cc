@@ -119,8 +119,11 @@ bool ParseLine(const std::vector<std::string_view>& tokens, int64_t line,
     }
     return true;
   }
-  builder->SkipUnknownTag(tag);
-  return true;
+  if (tag == "EQUIV") {  // Node equivalences: part of TORO, not read.
+    builder->SkipTag(tag);
+    return true;
+  }
+  return builder->UnknownTag(line, tag, error);
 }
 
 void AppendValue(double value, std::string* out) {

@@ -43,7 +43,7 @@ bool ReadWholeFile(const std::string& path, std::string* content,
 // Calls fn(line_number, line) for every line (without '\n' or '\r').
 template <typename Fn>
 bool ForEachLine(const std::string& content, Fn fn) {
-  size_t pos = 0;
+  size_t pos = text::Utf8BomLength(content);  // Skipped as by every reader.
   int line_number = 0;
   while (pos < content.size()) {
     size_t end = content.find('\n', pos);
@@ -93,13 +93,9 @@ std::vector<std::string> SplitCommas(const std::string& line) {
   return tokens;
 }
 
+// The readers' strict decimal parser (no hex floats, nan or inf).
 bool ParseDouble(const std::string& token, double* value) {
-  if (token.empty()) return false;
-  char* end = nullptr;
-  errno = 0;
-  *value = std::strtod(token.c_str(), &end);
-  return end == token.c_str() + token.size() && errno != ERANGE &&
-         std::isfinite(*value);
+  return text::ParseDouble(token, value);
 }
 
 bool ParseInt64(const std::string& token, int64_t* value) {
@@ -123,7 +119,7 @@ bool ParseValues(const std::vector<std::string>& tokens, size_t first,
   for (size_t i = 0; i < count; ++i) {
     if (!ParseDouble(tokens[first + i], &out[i])) {
       *error = where + "field " + std::to_string(first + i + 1) + " ('" +
-               tokens[first + i] + "') is not a finite number";
+               text::Printable(tokens[first + i]) + "') is not a finite number";
       return false;
     }
   }
@@ -289,11 +285,12 @@ bool ParseStampSecondsView(std::string_view text, TimeNs* stamp) {
   for (; i < text.size() && std::isdigit(static_cast<unsigned char>(text[i]));
        ++i) {
     any_digit = true;
+    whole = whole * 10 + (text[i] - '0');
+    // Checked after the digit (fuzzing: "74480544800" overflowed below).
     if (whole > 9000000000ll) {
       plain = false;  // Too large for nanoseconds in int64.
       break;
     }
-    whole = whole * 10 + (text[i] - '0');
   }
   if (plain && i < text.size() && text[i] == '.') {
     ++i;
@@ -347,6 +344,7 @@ bool DetectTrajectoryFormat(const std::string& path, TrajectoryFormat* format,
   bool euroc_header = false;
   while (std::getline(in, line) && line_number < 1000) {
     ++line_number;
+    if (line_number == 1) line.erase(0, text::Utf8BomLength(line));
     const std::string t = Trim(line);
     if (t.empty()) continue;
     if (t[0] == '#') {
@@ -668,7 +666,8 @@ bool ReadEuroc(const std::string& path_in, Trajectory* trajectory,
     int64_t ns = 0;
     if (!ParseInt64(tokens[0], &ns)) {
       double v = 0.0;
-      *error = where + "timestamp '" + tokens[0] + "' is not an integer" +
+      *error = where + "timestamp '" + text::Printable(tokens[0]) +
+               "' is not an integer" +
                (ParseDouble(tokens[0], &v)
                     ? ": EuRoC stamps are integer nanoseconds (a file with "
                       "seconds is not EuRoC; convert it or write TUM)"

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <string_view>
@@ -80,6 +81,20 @@ bool CheckOccupancyGridConfig(const OccupancyGridConfig& c,
       return false;
     }
   }
+  // One scan of the usable range must fit in the grid: otherwise the map
+  // cannot hold a single scan and the run would fail after all its work.
+  const double side = 2.0 * c.max_usable_range / c.resolution + 1.0;
+  if (side * side > static_cast<double>(c.max_cells)) {
+    char text[256];
+    std::snprintf(text, sizeof(text),
+                  "occupancy grid: resolution %g m is too fine: one scan of "
+                  "max_usable_range %g m needs %.3g cells, more than max_cells "
+                  "(%lld)",
+                  c.resolution, c.max_usable_range, side * side,
+                  static_cast<long long>(c.max_cells));
+    *error = text;
+    return false;
+  }
   return true;
 }
 
@@ -87,7 +102,13 @@ OccupancyGrid::OccupancyGrid(const OccupancyGridConfig& config)
     : config_(config) {}
 
 int64_t OccupancyGrid::CellIndex(double coordinate) const {
-  return static_cast<int64_t>(std::floor(coordinate / config_.resolution));
+  // Saturated (NaN to the low end) so that the conversion is defined; such
+  // cells are far outside any grid that fits in memory (max_cells).
+  constexpr double kLimit = 4e18;
+  const double f = std::floor(coordinate / config_.resolution);
+  if (!(f > -kLimit)) return static_cast<int64_t>(-kLimit);
+  if (f > kLimit) return static_cast<int64_t>(kLimit);
+  return static_cast<int64_t>(f);
 }
 
 int64_t OccupancyGrid::Offset(int64_t ix, int64_t iy) const {

@@ -9,6 +9,7 @@ packages=(
   libopencv-dev libgflags-dev libgoogle-glog-dev libyaml-cpp-dev
   libgtest-dev libgmock-dev
   python3 python3-yaml zlib1g-dev libbz2-dev
+  clang libclang-rt-14-dev bzip2  # Fuzzing (scripts/fuzz.sh).
 )
 
 missing=()

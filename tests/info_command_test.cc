@@ -109,7 +109,12 @@ TEST(InfoCommandTest, ThreeDimensionalGraphAndEdgeOnlyFile) {
             "1 0 0 0 0 0 1 0 0 0 0 1 0 0 0 1 0 0 1 0 1\n"
             "EDGE_SE3:QUAT 1 2 0 0 0.5 0 0 0 1 "
             "1 0 0 0 0 0 1 0 0 0 0 4 0 0 0 1 0 0 1 0 1\n");
-  SlamRun run = RunCaptured("info " + path3, tmp);
+  // The unknown tag is an error unless skipped on request.
+  SlamRun failed = RunCaptured("info " + path3, tmp);
+  EXPECT_EQ(failed.code, 1) << failed.all();
+  EXPECT_TRUE(Contains(failed.err, "g3.g2o:4: unknown tag 'EQUIV'"))
+      << failed.err;
+  SlamRun run = RunCaptured("info --skip_unknown_tags " + path3, tmp);
   ASSERT_EQ(run.code, 0) << run.all();
   EXPECT_TRUE(Contains(run.out, "nodes: 3  pose3 3  (fixed 0)")) << run.out;
   EXPECT_TRUE(Contains(run.out, "factors: 2 (odometry 2, loop closures 0)"))

@@ -10,6 +10,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "gtest/gtest.h"
 
@@ -36,6 +37,28 @@ inline std::string ConfigPath(const std::string& name) {
   return std::string(SLAM_TEST_DATA_DIR) + "/../../configs/" + name;
 }
 
+// The directories TempDir made; removed when the test process exits (each
+// test runs in a process of its own under ctest), unless $SLAM_KEEP_TEST_DIRS
+// is set (to look at the files of a failing test).
+class TempDirCleanup {
+ public:
+  static TempDirCleanup& Get() {
+    static TempDirCleanup cleanup;
+    return cleanup;
+  }
+  void Add(const std::filesystem::path& dir) { dirs_.push_back(dir); }
+  ~TempDirCleanup() {
+    if (std::getenv("SLAM_KEEP_TEST_DIRS") != nullptr) return;
+    for (const std::filesystem::path& dir : dirs_) {
+      std::error_code ec;
+      std::filesystem::remove_all(dir, ec);
+    }
+  }
+
+ private:
+  std::vector<std::filesystem::path> dirs_;
+};
+
 // A fresh empty directory under the system temp dir, named after the test.
 inline std::string TempDir() {
   const ::testing::TestInfo* info =
@@ -46,6 +69,7 @@ inline std::string TempDir() {
        info->name() + "_" + std::to_string(::getpid()));
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
+  TempDirCleanup::Get().Add(dir);
   return dir.string();
 }
 
@@ -77,6 +101,22 @@ inline int RunSlam(const std::string& args, const std::string& log = "") {
   if (!log.empty()) cmd += " > '" + log + "' 2>&1";
   const int status = std::system(cmd.c_str());
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+// A run of the slam binary with stdout and stderr captured separately
+// (through files in `dir`).
+struct CapturedRun {
+  int code = -1;
+  std::string out, err;
+};
+
+inline CapturedRun RunSlamCaptured(const std::string& args,
+                                   const std::string& dir) {
+  CapturedRun run;
+  run.code = RunSlam(args + " > '" + dir + "/stdout' 2> '" + dir + "/stderr'");
+  run.out = ReadText(dir + "/stdout");
+  run.err = ReadText(dir + "/stderr");
+  return run;
 }
 
 }  // namespace slam::testing

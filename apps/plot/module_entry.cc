@@ -6,6 +6,13 @@
 #include "apps/eval_report.h"
 #include "apps/map_plot.h"
 #include "apps/plot/map_plot.h"
+#include "datasets/atomic_file.h"
+
+// The output stage of the calling thread (datasets/atomic_file.h), set before
+// every call into the module (apps/plot_module.cc).
+extern "C" void SlamSetOutputStage(slam::OutputStage* stage) {
+  slam::OutputStage::SetCurrent(stage);
+}
 
 // The module's entry point, looked up by name (apps/plot_module.h).
 extern "C" bool SlamWriteEvalPlots(const std::string& dir,

@@ -203,6 +203,15 @@ bool PlanKeyframes(const InertialData& data, double keyframe_rate_hz,
   }
   const int64_t period =
       static_cast<int64_t>(std::llround(1e9 / keyframe_rate_hz));
+  if (period < imu_period) {
+    char text[160];
+    std::snprintf(text, sizeof(text),
+                  "the keyframe rate %g Hz is faster than the IMU (%g Hz): "
+                  "at most one keyframe per IMU reading",
+                  keyframe_rate_hz, 1e9 / static_cast<double>(imu_period));
+    *error = text;
+    return false;
+  }
   // Keyframes at least half a period apart (a very short IMU interval gives
   // a near-singular preintegration covariance): a fix close after the last
   // keyframe moves that keyframe to the fix when it is an ordinary one, is

@@ -10,8 +10,22 @@
 namespace slam {
 namespace {
 
-int64_t CellKey(int ix, int iy) {
-  return (static_cast<int64_t>(ix) << 32) ^ static_cast<uint32_t>(iy);
+// The two 32-bit cell indices packed into one key (unsigned: shifting a
+// negative signed value is undefined).
+uint64_t CellKey(int ix, int iy) {
+  return (static_cast<uint64_t>(static_cast<uint32_t>(ix)) << 32) |
+         static_cast<uint32_t>(iy);
+}
+
+// floor(v) as a cell index, saturated at +-2^30 cells (far beyond any grid
+// or search window; NaN goes to the low end), so that the conversion to int
+// is always defined and index arithmetic near it cannot overflow.
+int FloorToCell(double v) {
+  constexpr int kLimit = 1 << 30;
+  const double f = std::floor(v);
+  if (!(f > -kLimit)) return -kLimit;
+  if (f > kLimit) return kLimit;
+  return static_cast<int>(f);
 }
 
 // d/dtheta of R(theta) p, for R = I: (-p.y, p.x).
@@ -44,13 +58,13 @@ Points2 RangesToPoints(const std::vector<float>& ranges, double angle_min,
 }
 
 Points2 VoxelFilter(const Points2& points, double cell) {
-  std::unordered_map<int64_t, int> index;
+  std::unordered_map<uint64_t, int> index;
   index.reserve(points.size() * 2);
   Points2 sums;
   std::vector<int> counts;
   for (const Eigen::Vector2d& p : points) {
-    const int64_t key = CellKey(static_cast<int>(std::floor(p.x() / cell)),
-                                static_cast<int>(std::floor(p.y() / cell)));
+    const uint64_t key =
+        CellKey(FloorToCell(p.x() / cell), FloorToCell(p.y() / cell));
     auto [it, inserted] = index.emplace(key, static_cast<int>(sums.size()));
     if (inserted) {
       sums.push_back(p);
@@ -176,8 +190,8 @@ int MatchTarget::Nearest(const Eigen::Vector2d& query,
       fy > grid_height_ + ring) {
     return -1;
   }
-  const int cx = static_cast<int>(std::floor(fx));
-  const int cy = static_cast<int>(std::floor(fy));
+  const int cx = FloorToCell(fx);
+  const int cy = FloorToCell(fy);
   double best = max_distance * max_distance;
   int best_index = -1;
   for (int y = std::max(0, cy - ring);
@@ -340,8 +354,8 @@ void MatchTarget::BuildLikelihood(const CorrelativeOptions& options,
         (p.array() > l.valid_hi.array() + reach).any()) {
       continue;
     }
-    const int cx = static_cast<int>(std::floor((p.x() - l.origin.x()) / res));
-    const int cy = static_cast<int>(std::floor((p.y() - l.origin.y()) / res));
+    const int cx = FloorToCell((p.x() - l.origin.x()) / res);
+    const int cy = FloorToCell((p.y() - l.origin.y()) / res);
     for (int y = std::max(0, cy - kernel);
          y <= std::min(l.height - 1, cy + kernel); ++y) {
       for (int x = std::max(0, cx - kernel);
@@ -407,8 +421,8 @@ Pose2 MatchTarget::Correlative(const Points2& source, const Pose2& initial,
     const Eigen::Matrix2d r = RotationMatrix2D(theta);
     for (size_t i = 0; i < n; ++i) {
       const Eigen::Vector2d q = r * source[i] + initial.t - l.origin;
-      cx[a * n + i] = static_cast<int>(std::floor(q.x() / res));
-      cy[a * n + i] = static_cast<int>(std::floor(q.y() / res));
+      cx[a * n + i] = FloorToCell(q.x() / res);
+      cy[a * n + i] = FloorToCell(q.y() / res);
     }
   }
   auto sum = [&](const std::vector<float>& grid, int a, int dx, int dy) {
