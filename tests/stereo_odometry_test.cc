@@ -123,6 +123,34 @@ TEST(StereoOdometryTest, PixelNoiseGivesTheErrorItsCovariancePredicts) {
   EXPECT_LT(mean_nees, 10.5);
 }
 
+TEST(StereoOdometryTest, StartsTheMapAtTheFirstFrameWithEnoughStereoPoints) {
+  // A bad start: the first frames see nothing (lens cap, black images).
+  // They stay at the origin, the map starts at frame 3, and from there the
+  // path is recovered relative to frame 3.
+  StereoSimulationConfig sc;
+  sc.frames = 20;
+  sc.points_per_metre = 15.0;
+  StereoSimulation sim = SimulateStereo(sc);
+  for (int f = 0; f < 3; ++f) {
+    sim.frames[f].keypoints.clear();
+    sim.frames[f].u_right.clear();
+    sim.frames[f].descriptors = cv::Mat();
+  }
+  StereoOdometry odometry = MakeOdometry(sc);
+  for (int f = 0; f < sc.frames; ++f) {
+    const StereoFrameResult r = odometry.AddFrame(sim.frames[f]);
+    EXPECT_EQ(r.initialized, f >= 3) << "frame " << f;
+  }
+  odometry.Finish();
+  const Trajectory estimate = odometry.FrameTrajectory();
+  ASSERT_EQ(estimate.size(), 20u);
+  const Pose3 start = sim.poses[3].pose;
+  for (int f = 0; f < sc.frames; ++f) {
+    const Pose3 truth = f < 3 ? Pose3() : start.Inverse() * sim.poses[f].pose;
+    EXPECT_LT((estimate[f].pose.t - truth.t).norm(), 2e-5) << "frame " << f;
+  }
+}
+
 TEST(StereoOdometryTest, WrongMatchesAreRejected) {
   StereoSimulationConfig sc;
   sc.frames = 40;
