@@ -235,6 +235,25 @@ TEST(StereoRunTest, BadInputFailsWithAMessageAndNoOutputs) {
   }
 }
 
+TEST(StereoRunTest, AFailureAfterTheWorkPublishesNoOutput) {
+  // The report, written last, cannot be written: none of the outputs
+  // written before it may be left behind.
+  const std::string dir = TempDir();
+  WriteSequence(dir + "/seq", 5);
+  WriteText(dir + "/run.yaml", "run:\n  pipeline: stereo\n  sequence: " + dir +
+                                   "/seq\n  output_dir: " + dir + "/out\n");
+  EXPECT_EQ(RunSlam("run --config " + dir + "/run.yaml --report " + dir +
+                        "/missing_dir/report.json",
+                    dir + "/log.txt"),
+            1)
+      << ReadText(dir + "/log.txt");
+  EXPECT_TRUE(Contains(ReadText(dir + "/log.txt"), "missing_dir"))
+      << ReadText(dir + "/log.txt");
+  for (const auto& entry : fs::recursive_directory_iterator(dir + "/out")) {
+    ADD_FAILURE() << "left behind: " << entry.path();
+  }
+}
+
 // The report's numbers ("key": value).
 double ReportNumber(const std::string& report, const std::string& key,
                     const std::string& after = "") {

@@ -133,12 +133,6 @@ MapPlotData TopView(const Trajectory& trajectory,
   return data;
 }
 
-// Removes what a failed run wrote.
-void RemoveAll(const std::vector<std::string>& paths) {
-  std::error_code ec;
-  for (const std::string& p : paths) fs::remove_all(p, ec);
-}
-
 int RunStereo(const StereoRunConfig& config) {
   std::string error;
   const auto start = std::chrono::steady_clock::now();
@@ -340,17 +334,13 @@ int RunStereo(const StereoRunConfig& config) {
   const std::string csv_path = (out_dir / "timings.csv").string();
   const std::string map_path = (out_dir / "map.png").string();
   const std::string plot_dir = (out_dir / "plots").string();
-  std::vector<std::string> written;
+  // A failed run publishes none of what it wrote: main() keeps every output
+  // in an OutputStage (datasets/atomic_file.h) until the command succeeds.
   auto fail = [&](const std::string& message) {
     std::cerr << "run: " << message << "\n";
-    RemoveAll(written);
     return 1;
   };
   const std::vector<Eigen::Vector3d> points = odometry.MapPoints();
-  for (const std::string& p :
-       {kitti_path, tum_path, graph_path, ply_path, csv_path, map_path}) {
-    written.push_back(p);
-  }
   if (!WriteTrajectory(kitti_path, trajectory, TrajectoryFormat::kKitti,
                        &error) ||
       !WriteTrajectory(tum_path, trajectory, TrajectoryFormat::kTum, &error) ||
@@ -419,7 +409,6 @@ int RunStereo(const StereoRunConfig& config) {
     EvalLabels labels;
     labels.ref_name = "ground truth";
     labels.est_name = "stereo VO";
-    written.push_back(plot_dir);
     if (!EvaluateAndReport(gt.poses, trajectory, eval_settings, labels,
                            plot_dir, std::cout, &result, &error)) {
       return fail(error);
@@ -437,7 +426,6 @@ int RunStereo(const StereoRunConfig& config) {
     report.Add("evaluation", evaluation);
   }
   if (!FLAGS_report.empty()) {
-    written.push_back(FLAGS_report);
     if (!WriteFileAtomically(FLAGS_report, report.ToString(2) + "\n", &error))
       return fail(error);
   }
