@@ -209,14 +209,7 @@ bool ParseLine(const std::vector<std::string_view>& tokens, int64_t line,
         error);
   }
   if (tag == "POSE3D_INIT") {
-    if (!CheckFieldCount(tokens, 7, problem) ||
-        !ParseId(tokens, 1, &i, problem) ||
-        !ParseDoubles(tokens, 2, 6, v, problem)) {
-      return false;
-    }
-    return builder->AddVertexSE3(
-        line, i, Eigen::Vector3d(v[0], v[1], v[2]),
-        Coefficients(QuaternionFromRpy(v[3], v[4], v[5])), error);
+    return AddVertexRpy(tokens, line, builder, problem, error);
   }
   if (tag == "SOLVE" || tag == "EDGE3_INIT" || tag == "POSE3D_TRUE" ||
       tag == "EDGE3_TRUE") {

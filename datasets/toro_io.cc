@@ -59,16 +59,8 @@ bool ParseLine(const std::vector<std::string_view>& tokens, int64_t line,
     return builder->AddBetweenSE2(line, i, j, v[0], v[1], v[2], information,
                                   error);
   }
-  if (tag == "VERTEX3") {
-    if (!CheckFieldCount(tokens, 7, problem) ||
-        !ParseId(tokens, 1, &i, problem) ||
-        !ParseDoubles(tokens, 2, 6, v, problem)) {
-      return false;
-    }
-    return builder->AddVertexSE3(
-        line, i, Eigen::Vector3d(v[0], v[1], v[2]),
-        Coefficients(QuaternionFromRpy(v[3], v[4], v[5])), error);
-  }
+  if (tag == "VERTEX3")
+    return AddVertexRpy(tokens, line, builder, problem, error);
   if (tag == "EDGE3") {
     if (!CheckFieldCount(tokens, 29, problem) ||
         !ParseId(tokens, 1, &i, problem) || !ParseId(tokens, 2, &j, problem) ||
@@ -137,6 +129,21 @@ Eigen::Quaterniond QuaternionFromRpy(double roll, double pitch, double yaw) {
   return Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
          Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
          Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX());
+}
+
+bool AddVertexRpy(const std::vector<std::string_view>& tokens, int64_t line,
+                  text::PoseGraphBuilder* builder, std::string* problem,
+                  std::string* error) {
+  int64_t id = 0;
+  double v[6];
+  if (!CheckFieldCount(tokens, 7, problem) ||
+      !ParseId(tokens, 1, &id, problem) ||
+      !ParseDoubles(tokens, 2, 6, v, problem)) {
+    return false;
+  }
+  return builder->AddVertexSE3(
+      line, id, Eigen::Vector3d(v[0], v[1], v[2]),
+      Coefficients(QuaternionFromRpy(v[3], v[4], v[5])), error);
 }
 
 Eigen::Vector3d RpyFromQuaternion(const Eigen::Quaterniond& q) {

@@ -51,13 +51,18 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <cstdint>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "core/graph.h"
 #include "datasets/g2o_io.h"
 
 namespace slam {
+namespace text {
+class PoseGraphBuilder;
+}  // namespace text
 
 // Reads a TORO/HOG-Man file into *graph (must be empty). On error returns
 // false, sets *error to "PATH:LINE: problem" and leaves *graph empty.
@@ -78,6 +83,13 @@ bool WriteToro(const std::string& path, const Graph& graph, std::string* error);
 // (pitch in [-pi/2, pi/2]).
 Eigen::Quaterniond QuaternionFromRpy(double roll, double pitch, double yaw);
 Eigen::Vector3d RpyFromQuaternion(const Eigen::Quaterniond& q);
+
+// The 3D vertex record "TAG id x y z roll pitch yaw" (TORO's VERTEX3, iSAM's
+// POSE3D_INIT) added to `builder`; false with *problem (a field error, for
+// the caller to place) or *error (from the builder).
+bool AddVertexRpy(const std::vector<std::string_view>& tokens, int64_t line,
+                  text::PoseGraphBuilder* builder, std::string* problem,
+                  std::string* error);
 
 }  // namespace slam
 
