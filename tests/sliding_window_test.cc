@@ -34,6 +34,7 @@
 #include "factors/marginalization_prior.h"
 #include "frontends/inertial/inertial_estimator.h"
 #include "gtest/gtest.h"
+#include "tests/test_inertial_simulation.h"
 #include "tests/test_linear_cost.h"
 #include "tests/test_random.h"
 
@@ -116,40 +117,16 @@ TEST(SlidingWindowTest, TimingSummary) {
   EXPECT_EQ(s.count, 200u);
 }
 
-// Simulated IMU + fixes (datasets/inertial_simulator.h) with the truth at
-// every IMU sample. The initial biases are drawn from the estimator's bias
-// prior (mean zero) and the initial state handed to the estimator is the
-// truth perturbed with the prior sigmas, so that the prior is consistent.
+// Simulated IMU + fixes with a consistent start
+// (tests/test_inertial_simulation.h), the truth at every IMU sample.
 struct SimulatedLog {
   InertialData log;
 };
 
 SimulatedLog Simulate(unsigned seed, double duration, double fix_rate_hz,
                       const InertialOptions& options) {
-  TestRng rng(seed);
-  InertialSimulationConfig config;
-  config.duration = duration;
-  config.imu_rate = 200.0;
-  config.position_rate = fix_rate_hz;
-  config.position_sigma = options.position_sigma;
-  config.noise = options.noise;
-  config.gravity = options.gravity;
-  config.seed = seed;
-  for (int i = 0; i < 3; ++i) {
-    config.initial_gyro_bias[i] = options.prior_gyro_bias_sigma * rng.Normal();
-    config.initial_accel_bias[i] =
-        options.prior_accel_bias_sigma * rng.Normal();
-  }
-  SimulatedLog sim;
-  std::string error;
-  EXPECT_TRUE(SimulateInertial(config, &sim.log, &error)) << error;
-  NavState& init = sim.log.initial_state;
-  init.pose.t += options.prior_position_sigma * rng.Normal3();
-  init.pose.q =
-      init.pose.q * QuaternionExp<double>(Eigen::Vector3d(
-                        options.prior_rotation_sigma * rng.Normal3()));
-  init.velocity += options.prior_velocity_sigma * rng.Normal3();
-  return sim;
+  return {
+      testing::SimulateConsistentStart(seed, duration, fix_rate_hz, options)};
 }
 
 const InertialGroundTruth& Truth(const SimulatedLog& sim, TimeNs stamp) {
