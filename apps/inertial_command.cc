@@ -15,11 +15,19 @@
 //                                       estimate, when it left the window)
 //   window_filter.tum                   the newest state right after its
 //                                       update (real-time estimate)
-//   window_states.csv / batch_states.csv
+//   window_states.csv / batch_states.csv / window_filter_states.csv
 //       "#timestamp [ns],vx,vy,vz,bgx,bgy,bgz,bax,bay,baz" (world velocity,
 //       gyro then accel bias)
+//   covariance_window_filter.csv        the newest state's 15 x 15 marginal
+//                                       covariance after its update (format:
+//                                       apps/inertial_consistency_report.h)
 // --gt FILE evaluates each estimate against a reference trajectory (any
-// format of `slam eval`), --gt input against the input's ground truth.
+// format of `slam eval`), --gt input against the input's ground truth; with
+// --gt input the window's real-time estimate is also checked for
+// consistency: NEES of position, pose, velocity and bias after the first
+// 10 s (frontends/inertial/inertial_consistency.h), raw and after a yaw-only
+// alignment of the reference rotation, in the report under
+// evaluation.window_filter.nees.
 // Settings: defaults < --config FILE (`inertial:` section, see
 // apps/inertial_config.h) < explicit flags; --dump_config prints them.
 #include <gflags/gflags.h>
@@ -35,6 +43,7 @@
 #include "apps/common_flags.h"
 #include "apps/eval_report.h"
 #include "apps/inertial_config.h"
+#include "apps/inertial_consistency_report.h"
 #include "apps/json.h"
 #include "apps/yaml_config.h"
 #include "core/sliding_window.h"
@@ -105,8 +114,9 @@ std::string StatesCsv(const std::vector<InertialState>& states) {
 }
 
 // initial_state: ground_truth. Drops the IMU readings before the first
-// ground-truth state and starts there.
-bool StartAtGroundTruth(InertialData* data, std::string* error) {
+// ground-truth state and starts there, bias included (*bias: the prior mean
+// of the first keyframe's bias).
+bool StartAtGroundTruth(InertialData* data, ImuBias* bias, std::string* error) {
   if (data->ground_truth.empty()) {
     *error = "initial_state ground_truth: the input has no ground truth";
     return false;
@@ -130,6 +140,7 @@ bool StartAtGroundTruth(InertialData* data, std::string* error) {
   data->has_initial_state = true;
   data->initial_state.pose = start->pose;
   data->initial_state.velocity = start->velocity;
+  *bias = start->bias;
   return true;
 }
 
@@ -163,7 +174,7 @@ int RunInertialCommand(const std::vector<std::string>& args) {
   }
   if (config.gravity_auto) config.options.gravity = data.gravity;
   if (config.initial_state == "ground_truth" &&
-      !StartAtGroundTruth(&data, &error)) {
+      !StartAtGroundTruth(&data, &config.options.initial_bias, &error)) {
     std::cerr << "slam inertial: " << FLAGS_i << ": " << error << "\n";
     return 1;
   }
@@ -197,6 +208,9 @@ int RunInertialCommand(const std::vector<std::string>& args) {
   JsonObject report;
   report.Add("input", FLAGS_i).Add("estimator", config.estimator);
   if (run_window) {
+    // The newest state's marginal after every update (covariance CSV, NEES);
+    // not part of the timed update.
+    config.options.newest_covariance = true;
     if (!RunSlidingWindow(data, config.options, &window, &std::cout, &error)) {
       std::cerr << "slam inertial: " << FLAGS_i << ": " << error << "\n";
       return 1;
@@ -204,6 +218,9 @@ int RunInertialCommand(const std::vector<std::string>& args) {
     estimates.push_back({"window", ToTrajectory(window.smoothed)});
     estimates.push_back({"window_filter", ToTrajectory(window.filter)});
     files.emplace_back("window_states.csv", StatesCsv(window.smoothed));
+    files.emplace_back("window_filter_states.csv", StatesCsv(window.filter));
+    files.emplace_back("covariance_window_filter.csv",
+                       CovarianceCsv(window.filter, window.newest_covariance));
     const TimingSummary t = SummarizeTimes(window.update_seconds);
     JsonObject timing;
     timing.Add("updates", t.count)
@@ -252,7 +269,18 @@ int RunInertialCommand(const std::vector<std::string>& args) {
                   << "\n";
         return 1;
       }
-      evaluation.Add(e.name, EvalResultJson(result, settings));
+      JsonObject json = EvalResultJson(result, settings);
+      if (e.name == "window_filter" && FLAGS_gt == "input") {
+        JsonObject nees;
+        if (!EvaluateNees(e.name, window.filter, window.newest_covariance,
+                          data.ground_truth, NeesOptions(), std::cout, &nees,
+                          &error)) {
+          std::cerr << "slam inertial: " << error << "\n";
+          return 1;
+        }
+        json.Add("nees", nees);
+      }
+      evaluation.Add(e.name, json);
     }
     report.Add("evaluation", evaluation);
   }

@@ -40,16 +40,29 @@ bool LoadInertialConfig(const std::string& path, InertialConfig* config,
   if (!CheckTopLevelSections(root, path, error)) return false;
   const YAML::Node node = root["inertial"];
   if (!node) return true;
-  if (!CheckKnownKeys(
-          node,
-          {"input_format", "initial_state", "estimator", "keyframe_rate",
-           "window_size", "window_iterations", "linear_solver", "gravity",
-           "gyro_noise_density", "accel_noise_density", "gyro_random_walk",
-           "accel_random_walk", "position_sigma", "lever_arm",
-           "prior_position_sigma", "prior_rotation_sigma",
-           "prior_velocity_sigma", "prior_gyro_bias_sigma",
-           "prior_accel_bias_sigma"},
-          path, error)) {
+  if (!CheckKnownKeys(node,
+                      {"input_format",
+                       "initial_state",
+                       "estimator",
+                       "keyframe_rate",
+                       "window_size",
+                       "window_iterations",
+                       "linear_solver",
+                       "gravity",
+                       "gyro_noise_density",
+                       "accel_noise_density",
+                       "gyro_random_walk",
+                       "accel_random_walk",
+                       "position_sigma",
+                       "lever_arm",
+                       "prior_position_sigma",
+                       "prior_rotation_sigma",
+                       "prior_velocity_sigma",
+                       "prior_gyro_bias_sigma",
+                       "prior_accel_bias_sigma",
+                       "initial_gyro_bias",
+                       "initial_accel_bias"},
+                      path, error)) {
     return false;
   }
   InertialOptions& o = config->options;
@@ -85,6 +98,13 @@ bool LoadInertialConfig(const std::string& path, InertialConfig* config,
                     &o.prior_accel_bias_sigma, error)) {
     return false;
   }
+  Eigen::Vector3d gyro_bias = o.initial_bias.head<3>();
+  Eigen::Vector3d accel_bias = o.initial_bias.tail<3>();
+  if (!ReadVector3(node, "initial_gyro_bias", path, &gyro_bias, error) ||
+      !ReadVector3(node, "initial_accel_bias", path, &accel_bias, error)) {
+    return false;
+  }
+  o.initial_bias << gyro_bias, accel_bias;
   const YAML::Node gravity = node["gravity"];
   if (gravity) {
     if (gravity.IsScalar() && gravity.as<std::string>() == "auto") {
@@ -156,8 +176,9 @@ bool ValidateInertialConfig(const InertialConfig& config, std::string* error) {
       return false;
     }
   }
-  if (!o.gravity.allFinite() || !o.lever_arm.allFinite()) {
-    *error = "gravity and lever_arm must be finite";
+  if (!o.gravity.allFinite() || !o.lever_arm.allFinite() ||
+      !o.initial_bias.allFinite()) {
+    *error = "gravity, lever_arm and the initial biases must be finite";
     return false;
   }
   return true;
@@ -188,7 +209,11 @@ std::string InertialConfigToYaml(const InertialConfig& config) {
       << "  prior_rotation_sigma: " << o.prior_rotation_sigma << "\n"
       << "  prior_velocity_sigma: " << o.prior_velocity_sigma << "\n"
       << "  prior_gyro_bias_sigma: " << o.prior_gyro_bias_sigma << "\n"
-      << "  prior_accel_bias_sigma: " << o.prior_accel_bias_sigma << "\n";
+      << "  prior_accel_bias_sigma: " << o.prior_accel_bias_sigma << "\n"
+      << "  initial_gyro_bias: " << Vector3Yaml(o.initial_bias.head<3>())
+      << "\n"
+      << "  initial_accel_bias: " << Vector3Yaml(o.initial_bias.tail<3>())
+      << "\n";
   return out.str();
 }
 

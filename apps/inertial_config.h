@@ -19,14 +19,17 @@
 //     prior_position_sigma: 0.01   # initial state prior (when the input
 //     prior_rotation_sigma: 0.01   #   has an initial state), m, rad,
 //     prior_velocity_sigma: 0.1    #   m/s
-//     prior_gyro_bias_sigma: 0.01  # rad/s (prior mean 0)
+//     prior_gyro_bias_sigma: 0.01  # rad/s, sigma of the first bias prior
 //     prior_accel_bias_sigma: 0.1  # m/s^2
+//     initial_gyro_bias: [0, 0, 0]   # rad/s, mean of the first bias prior
+//     initial_accel_bias: [0, 0, 0]  # m/s^2
 //
 // initial_state: auto uses the input's initial state when it has one (the
 // GTSAM "i" row), else a static start (frontends/inertial/
 // inertial_estimator.h); ground_truth starts at the first ground-truth state
 // of an EuRoC folder (IMU readings before it are dropped) with the prior
-// sigmas below, as EuRoC evaluations commonly do.
+// sigmas above, as EuRoC evaluations commonly do; it takes the ground
+// truth's bias as the prior mean too (in place of initial_*_bias).
 // For the GTSAM example file use gyro/accel densities 2.05689e-4 / 3.924e-4,
 // random walks 1.454441e-6 / 4.905e-3, position_sigma 1.0, and a wide
 // prior_velocity_sigma (its initial velocity row is not consistent with the
