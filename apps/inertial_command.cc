@@ -173,8 +173,10 @@ int RunInertialCommand(const std::vector<std::string>& args) {
     return 1;
   }
   if (config.gravity_auto) config.options.gravity = data.gravity;
+  // The densities the estimators use: data sheet x inflation.
+  InertialOptions options = EffectiveInertialOptions(config);
   if (config.initial_state == "ground_truth" &&
-      !StartAtGroundTruth(&data, &config.options.initial_bias, &error)) {
+      !StartAtGroundTruth(&data, &options.initial_bias, &error)) {
     std::cerr << "slam inertial: " << FLAGS_i << ": " << error << "\n";
     return 1;
   }
@@ -197,8 +199,15 @@ int RunInertialCommand(const std::vector<std::string>& args) {
       "input %s: %zu IMU readings, %zu position fixes, gravity "
       "(%g, %g, %g), %s initial state\n",
       FLAGS_i.c_str(), data.imu.size(), data.positions.size(),
-      config.options.gravity.x(), config.options.gravity.y(),
-      config.options.gravity.z(), data.has_initial_state ? "with" : "without");
+      options.gravity.x(), options.gravity.y(), options.gravity.z(),
+      data.has_initial_state ? "with" : "without");
+  std::printf(
+      "noise: gyro %g rad/s/sqrt(Hz) (%g x %g), accel %g m/s^2/sqrt(Hz) (%g x "
+      "%g), random walks %g rad/s^2/sqrt(Hz), %g m/s^3/sqrt(Hz)\n",
+      options.noise.gyro_noise_density, config.options.noise.gyro_noise_density,
+      config.gyro_noise_inflation, options.noise.accel_noise_density,
+      config.options.noise.accel_noise_density, config.accel_noise_inflation,
+      options.noise.gyro_random_walk, options.noise.accel_random_walk);
 
   const bool run_window = config.estimator != "batch";
   const bool run_batch = config.estimator != "window";
@@ -210,8 +219,8 @@ int RunInertialCommand(const std::vector<std::string>& args) {
   if (run_window) {
     // The newest state's marginal after every update (covariance CSV, NEES);
     // not part of the timed update.
-    config.options.newest_covariance = true;
-    if (!RunSlidingWindow(data, config.options, &window, &std::cout, &error)) {
+    options.newest_covariance = true;
+    if (!RunSlidingWindow(data, options, &window, &std::cout, &error)) {
       std::cerr << "slam inertial: " << FLAGS_i << ": " << error << "\n";
       return 1;
     }
@@ -232,7 +241,7 @@ int RunInertialCommand(const std::vector<std::string>& args) {
     report.Add("window", timing);
   }
   if (run_batch) {
-    if (!RunBatch(data, config.options,
+    if (!RunBatch(data, options,
                   run_window ? window.smoothed : std::vector<InertialState>(),
                   &batch, &std::cout, &error)) {
       std::cerr << "slam inertial: " << FLAGS_i << ": " << error << "\n";

@@ -61,7 +61,9 @@ bool LoadInertialConfig(const std::string& path, InertialConfig* config,
                        "prior_gyro_bias_sigma",
                        "prior_accel_bias_sigma",
                        "initial_gyro_bias",
-                       "initial_accel_bias"},
+                       "initial_accel_bias",
+                       "gyro_noise_inflation",
+                       "accel_noise_inflation"},
                       path, error)) {
     return false;
   }
@@ -84,6 +86,10 @@ bool LoadInertialConfig(const std::string& path, InertialConfig* config,
                     error) ||
       !ReadOptional(node, "accel_random_walk", path, &o.noise.accel_random_walk,
                     error) ||
+      !ReadOptional(node, "gyro_noise_inflation", path,
+                    &config->gyro_noise_inflation, error) ||
+      !ReadOptional(node, "accel_noise_inflation", path,
+                    &config->accel_noise_inflation, error) ||
       !ReadOptional(node, "position_sigma", path, &o.position_sigma, error) ||
       !ReadVector3(node, "lever_arm", path, &o.lever_arm, error) ||
       !ReadOptional(node, "prior_position_sigma", path, &o.prior_position_sigma,
@@ -168,6 +174,12 @@ bool ValidateInertialConfig(const InertialConfig& config, std::string* error) {
     *error = "noise densities and random walks must be > 0";
     return false;
   }
+  for (double f : {config.gyro_noise_inflation, config.accel_noise_inflation}) {
+    if (!(f > 0.0) || !std::isfinite(f)) {
+      *error = "noise inflations must be > 0";
+      return false;
+    }
+  }
   for (double sigma : {o.position_sigma, o.prior_position_sigma,
                        o.prior_rotation_sigma, o.prior_velocity_sigma,
                        o.prior_gyro_bias_sigma, o.prior_accel_bias_sigma}) {
@@ -203,6 +215,8 @@ std::string InertialConfigToYaml(const InertialConfig& config) {
       << "  accel_noise_density: " << o.noise.accel_noise_density << "\n"
       << "  gyro_random_walk: " << o.noise.gyro_random_walk << "\n"
       << "  accel_random_walk: " << o.noise.accel_random_walk << "\n"
+      << "  gyro_noise_inflation: " << config.gyro_noise_inflation << "\n"
+      << "  accel_noise_inflation: " << config.accel_noise_inflation << "\n"
       << "  position_sigma: " << o.position_sigma << "\n"
       << "  lever_arm: " << Vector3Yaml(o.lever_arm) << "\n"
       << "  prior_position_sigma: " << o.prior_position_sigma << "\n"
@@ -215,6 +229,13 @@ std::string InertialConfigToYaml(const InertialConfig& config) {
       << "  initial_accel_bias: " << Vector3Yaml(o.initial_bias.tail<3>())
       << "\n";
   return out.str();
+}
+
+InertialOptions EffectiveInertialOptions(const InertialConfig& config) {
+  InertialOptions o = config.options;
+  o.noise.gyro_noise_density *= config.gyro_noise_inflation;
+  o.noise.accel_noise_density *= config.accel_noise_inflation;
+  return o;
 }
 
 }  // namespace slam

@@ -297,5 +297,71 @@ TEST(InertialBiasSettingsTest, InitialBiasKeysAreReadDumpedAndUsed) {
       << run.filter.front().bias.transpose();
 }
 
+// The failure mode the noise inflation settings fix: readings noisier than
+// the data sheet (simulated with the gyro / accel white noise 16 / 8 times
+// the data sheet density, random walks as the data sheet). Estimated with
+// the data sheet densities the newest state is overconfident; with the
+// inflation settings (config keys, EffectiveInertialOptions) it is
+// consistent.
+TEST(InertialNoiseInflationTest, InflationKeysRestoreConsistencyOnNoisierData) {
+  const std::string dir = TempDir();
+  WriteText(dir + "/c.yaml",
+            "inertial:\n  gyro_noise_inflation: 16\n"
+            "  accel_noise_inflation: 8\n");
+  InertialConfig config;
+  std::string error;
+  ASSERT_TRUE(LoadInertialConfig(dir + "/c.yaml", &config, &error)) << error;
+  const InertialOptions sheet = config.options;  // Densities not touched.
+  const InertialOptions inflated = EffectiveInertialOptions(config);
+  EXPECT_EQ(inflated.noise.gyro_noise_density,
+            16.0 * sheet.noise.gyro_noise_density);
+  EXPECT_EQ(inflated.noise.accel_noise_density,
+            8.0 * sheet.noise.accel_noise_density);
+  EXPECT_EQ(inflated.noise.gyro_random_walk, sheet.noise.gyro_random_walk);
+  EXPECT_EQ(inflated.noise.accel_random_walk, sheet.noise.accel_random_walk);
+  WriteText(dir + "/dump.yaml", InertialConfigToYaml(config));
+  InertialConfig again;
+  ASSERT_TRUE(LoadInertialConfig(dir + "/dump.yaml", &again, &error)) << error;
+  EXPECT_EQ(again.gyro_noise_inflation, 16.0);
+  EXPECT_EQ(again.accel_noise_inflation, 8.0);
+  WriteText(dir + "/bad.yaml", "inertial:\n  accel_noise_inflation: 0\n");
+  EXPECT_FALSE(LoadInertialConfig(dir + "/bad.yaml", &again, &error));
+  EXPECT_NE(error.find("noise inflations must be > 0"), std::string::npos)
+      << error;
+
+  NeesOptions nees_options;
+  nees_options.skip_seconds = 5.0;
+  constexpr int kSeeds = 6;
+  double pose_sheet = 0.0, pose_inflated = 0.0, position_inflated = 0.0;
+  for (int seed = 0; seed < kSeeds; ++seed) {
+    InertialOptions sim_options = inflated;
+    sim_options.newest_covariance = true;
+    const InertialData data =
+        testing::SimulateConsistentStart(300 + seed, 20.0, 2.0, sim_options);
+    for (bool inflate : {false, true}) {
+      InertialOptions options = inflate ? inflated : sheet;
+      options.newest_covariance = true;
+      InertialRun run;
+      ASSERT_TRUE(RunSlidingWindow(data, options, &run, nullptr, &error))
+          << error;
+      NeesSummary s;
+      ASSERT_TRUE(SummarizeNees(run.filter, run.newest_covariance,
+                                data.ground_truth, nees_options, &s, &error))
+          << error;
+      (inflate ? pose_inflated : pose_sheet) += s.pose.mean / kSeeds;
+      if (inflate) position_inflated += s.position.mean / kSeeds;
+    }
+  }
+  std::printf(
+      "noisier data: pose NEES %.2f with the data sheet densities, %.2f "
+      "(position %.2f) with the inflation\n",
+      pose_sheet, pose_inflated, position_inflated);
+  EXPECT_GT(pose_sheet, 6.0 * 1.4);  // Outside the consistency bound.
+  EXPECT_GT(pose_inflated, 6.0 / 1.4);
+  EXPECT_LT(pose_inflated, 6.0 * 1.4);
+  EXPECT_GT(position_inflated, 3.0 / 1.4);
+  EXPECT_LT(position_inflated, 3.0 * 1.4);
+}
+
 }  // namespace
 }  // namespace slam
