@@ -21,13 +21,16 @@
 //   covariance_window_filter.csv        the newest state's 15 x 15 marginal
 //                                       covariance after its update (format:
 //                                       apps/inertial_consistency_report.h)
+//   covariance_window.csv               the same for window.tum: each
+//                                       keyframe's covariance when it left
+//                                       the window
 // --gt FILE evaluates each estimate against a reference trajectory (any
 // format of `slam eval`), --gt input against the input's ground truth; with
-// --gt input the window's real-time estimate is also checked for
-// consistency: NEES of position, pose, velocity and bias after the first
-// 10 s (frontends/inertial/inertial_consistency.h), raw and after a yaw-only
-// alignment of the reference rotation, in the report under
-// evaluation.window_filter.nees.
+// --gt input the window's estimates (real-time and fixed-lag) are also
+// checked for consistency: NEES of position, pose, velocity and bias after
+// the first 10 s (frontends/inertial/inertial_consistency.h), raw and after a
+// yaw-only alignment of the reference rotation, in the report under
+// evaluation.window_filter.nees and evaluation.window.nees.
 // Settings: defaults < --config FILE (`inertial:` section, see
 // apps/inertial_config.h) < explicit flags; --dump_config prints them.
 #include <gflags/gflags.h>
@@ -147,6 +150,9 @@ bool StartAtGroundTruth(InertialData* data, ImuBias* bias, std::string* error) {
 struct Estimate {
   std::string name;  // "window", "window_filter", "batch"
   Trajectory trajectory;
+  // The states and their covariances (NEES), or nullptr (batch).
+  const std::vector<InertialState>* states = nullptr;
+  const std::vector<Eigen::MatrixXd>* covariances = nullptr;
 };
 
 }  // namespace
@@ -220,16 +226,22 @@ int RunInertialCommand(const std::vector<std::string>& args) {
     // The newest state's marginal after every update (covariance CSV, NEES);
     // not part of the timed update.
     options.newest_covariance = true;
+    options.smoothed_covariance = true;
     if (!RunSlidingWindow(data, options, &window, &std::cout, &error)) {
       std::cerr << "slam inertial: " << FLAGS_i << ": " << error << "\n";
       return 1;
     }
-    estimates.push_back({"window", ToTrajectory(window.smoothed)});
-    estimates.push_back({"window_filter", ToTrajectory(window.filter)});
+    estimates.push_back({"window", ToTrajectory(window.smoothed),
+                         &window.smoothed, &window.smoothed_covariance});
+    estimates.push_back({"window_filter", ToTrajectory(window.filter),
+                         &window.filter, &window.newest_covariance});
     files.emplace_back("window_states.csv", StatesCsv(window.smoothed));
     files.emplace_back("window_filter_states.csv", StatesCsv(window.filter));
     files.emplace_back("covariance_window_filter.csv",
                        CovarianceCsv(window.filter, window.newest_covariance));
+    files.emplace_back(
+        "covariance_window.csv",
+        CovarianceCsv(window.smoothed, window.smoothed_covariance));
     const TimingSummary t = SummarizeTimes(window.update_seconds);
     JsonObject timing;
     timing.Add("updates", t.count)
@@ -279,11 +291,10 @@ int RunInertialCommand(const std::vector<std::string>& args) {
         return 1;
       }
       JsonObject json = EvalResultJson(result, settings);
-      if (e.name == "window_filter" && FLAGS_gt == "input") {
+      if (e.covariances != nullptr && FLAGS_gt == "input") {
         JsonObject nees;
-        if (!EvaluateNees(e.name, window.filter, window.newest_covariance,
-                          data.ground_truth, NeesOptions(), std::cout, &nees,
-                          &error)) {
+        if (!EvaluateNees(e.name, *e.states, *e.covariances, data.ground_truth,
+                          NeesOptions(), std::cout, &nees, &error)) {
           std::cerr << "slam inertial: " << error << "\n";
           return 1;
         }

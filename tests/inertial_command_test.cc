@@ -108,10 +108,11 @@ TEST(InertialCommandTest, SimulatedEurocWindowAndBatch) {
 }
 
 // Covariance CSV and NEES report: one 15 x 15 positive definite covariance
-// per filter keyframe, parsed back; with --gt input the report holds
-// evaluation.window_filter.nees.{position,pose,bias}.{mean,median} (raw and
-// yaw-aligned). initial_state: ground_truth starts at the truth's bias too
-// (with a tight bias prior, the first estimate holds the simulated bias).
+// per filter keyframe (and per fixed-lag keyframe), parsed back; with --gt
+// input the report holds evaluation.window_filter.nees.{position,pose,bias}.
+// {mean,median} (raw and yaw-aligned), and the same under window.
+// initial_state: ground_truth starts at the truth's bias too (with a tight bias
+// prior, the first estimate holds the simulated bias).
 TEST(InertialCommandTest, CovarianceCsvNeesReportAndGroundTruthBias) {
   const std::string dir = TempDir();
   WriteText(dir + "/sim.yaml",
@@ -150,7 +151,16 @@ TEST(InertialCommandTest, CovarianceCsvNeesReportAndGroundTruthBias) {
     EXPECT_EQ(Eigen::LLT<Eigen::MatrixXd>(covs[k]).info(), Eigen::Success);
     ++k;
   }
+  // The fixed-lag estimate's covariances: one per keyframe of window.tum.
+  std::vector<TimeNs> smoothed_stamps;
+  std::vector<Eigen::MatrixXd> smoothed_covs;
+  ASSERT_TRUE(ParseCovarianceCsv(ReadText(dir + "/out/covariance_window.csv"),
+                                 &smoothed_stamps, &smoothed_covs, &error))
+      << error;
+  EXPECT_EQ(smoothed_covs.size(), ReadTum(dir + "/out/window.tum").size());
   const YAML::Node report = YAML::LoadFile(dir + "/report.json");
+  EXPECT_GT(report["evaluation"]["window"]["nees"]["bias"]["mean"].as<double>(),
+            0.0);
   const YAML::Node nees = report["evaluation"]["window_filter"]["nees"];
   ASSERT_TRUE(nees.IsMap()) << ReadText(dir + "/report.json");
   for (const char* block : {"position", "pose", "velocity", "bias"}) {

@@ -29,6 +29,7 @@
 #include "ceres/cost_function.h"
 #include "core/graph.h"
 #include "core/manifolds.h"
+#include "core/marginals.h"
 #include "core/optimizer.h"
 #include "datasets/inertial_simulator.h"
 #include "factors/marginalization_prior.h"
@@ -58,6 +59,27 @@ Factor Linear(const std::vector<Key>& keys, TestRng* rng) {
   return f;
 }
 
+// Keyframe k of a linear chain: a "position fix" on Point3Key(k) and links
+// to the `links` keyframes before it, added to the full graph and the
+// window.
+bool AddLinearKeyframe(int k, int links, TestRng* rng, Graph* full,
+                       SlidingWindow* window, std::string* error) {
+  std::vector<Factor> factors;
+  factors.push_back(Linear({Point3Key(k)}, rng));
+  for (int l = 1; l <= links && l <= k; ++l) {
+    factors.push_back(Linear({Point3Key(k - l), Point3Key(k)}, rng));
+  }
+  full->AddNode(Point3Key(k), {0.0, 0.0, 0.0});
+  for (const Factor& f : factors) {
+    if (full->AddFactor(f) < 0) {
+      *error = "full graph refused a factor";
+      return false;
+    }
+  }
+  return window->AddKeyframe(1000 * (k + 1), {{Point3Key(k), {1, 2, 3}}},
+                             factors, error);
+}
+
 TEST(SlidingWindowTest, LinearNewestStateEqualsFullBatch) {
   TestRng rng(5);
   SlidingWindowOptions options;
@@ -73,17 +95,7 @@ TEST(SlidingWindowTest, LinearNewestStateEqualsFullBatch) {
       batch.parameter_tolerance = 1e-14;
   std::string error;
   for (int k = 0; k < 20; ++k) {
-    std::vector<Factor> factors;
-    factors.push_back(Linear({Point3Key(k)}, &rng));  // "position fix"
-    if (k > 0)
-      factors.push_back(Linear({Point3Key(k - 1), Point3Key(k)}, &rng));
-    if (k > 1)
-      factors.push_back(Linear({Point3Key(k - 2), Point3Key(k)}, &rng));
-    full.AddNode(Point3Key(k), {0.0, 0.0, 0.0});
-    for (const Factor& f : factors) ASSERT_GE(full.AddFactor(f), 0);
-    ASSERT_TRUE(window.AddKeyframe(1000 * (k + 1), {{Point3Key(k), {1, 2, 3}}},
-                                   factors, &error))
-        << error;
+    ASSERT_TRUE(AddLinearKeyframe(k, 2, &rng, &full, &window, &error)) << error;
     WindowUpdateStats stats;
     ASSERT_TRUE(window.Update(&stats, &error)) << error;
     EXPECT_LE(stats.keyframes, options.window_size);
@@ -105,6 +117,49 @@ TEST(SlidingWindowTest, LinearNewestStateEqualsFullBatch) {
       1000000, {{Point3Key(100), {0, 0, 0}}},
       {Linear({Point3Key(0), Point3Key(100)}, &rng)}, &error));
   EXPECT_EQ(window.graph().NumNodes(), nodes);
+}
+
+// final_covariances: each keyframe's covariance when it leaves the window is
+// the full batch's marginal over the factors so far (exact for linear
+// factors); Finish() adds those left; the covariance is not in the update
+// time.
+TEST(SlidingWindowTest, LinearFinalCovariancesEqualFullBatchMarginals) {
+  TestRng rng(8);
+  SlidingWindowOptions options;
+  options.window_size = 4;
+  options.prior_builder = MakeMarginalizationPrior;
+  options.final_covariances = true;
+  SlidingWindow window(options);
+  Graph full;
+  std::map<int, Eigen::MatrixXd> expected;  // Keyframe -> batch marginal.
+  std::string error;
+  constexpr int kKeyframes = 12;
+  for (int k = 0; k < kKeyframes; ++k) {
+    ASSERT_TRUE(AddLinearKeyframe(k, 1, &rng, &full, &window, &error)) << error;
+    WindowUpdateStats stats;
+    ASSERT_TRUE(window.Update(&stats, &error)) << error;
+    EXPECT_EQ(stats.covariance_seconds > 0.0, stats.marginalized);
+    const int leaving = k + 1 - options.window_size;
+    if (leaving >= 0) {
+      ASSERT_TRUE(ComputeJointMarginal(&full, {Point3Key(leaving)},
+                                       &expected[leaving], &error))
+          << error;
+    }
+  }
+  window.Finish();
+  for (int k = kKeyframes + 1 - options.window_size; k < kKeyframes; ++k) {
+    ASSERT_TRUE(
+        ComputeJointMarginal(&full, {Point3Key(k)}, &expected[k], &error))
+        << error;
+  }
+  const auto& covs = window.final_covariances();
+  ASSERT_EQ(covs.size(), static_cast<size_t>(kKeyframes));
+  for (int k = 0; k < kKeyframes; ++k) {
+    ASSERT_EQ(covs[k].first, std::vector<Key>{Point3Key(k)});
+    ASSERT_EQ(covs[k].second.rows(), 3);
+    EXPECT_LT((covs[k].second - expected[k]).norm(), 1e-9 * expected[k].norm())
+        << "keyframe " << k;
+  }
 }
 
 TEST(SlidingWindowTest, TimingSummary) {
