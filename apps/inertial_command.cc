@@ -222,6 +222,15 @@ int RunInertialCommand(const std::vector<std::string>& args) {
   std::vector<std::pair<std::string, std::string>> files;  // name, contents
   JsonObject report;
   report.Add("input", FLAGS_i).Add("estimator", config.estimator);
+  JsonObject noise;  // As used: data sheet densities x inflation.
+  noise.Add("gyro_noise_density", options.noise.gyro_noise_density)
+      .Add("accel_noise_density", options.noise.accel_noise_density)
+      .Add("gyro_random_walk", options.noise.gyro_random_walk)
+      .Add("accel_random_walk", options.noise.accel_random_walk)
+      .Add("gyro_noise_inflation", config.gyro_noise_inflation)
+      .Add("accel_noise_inflation", config.accel_noise_inflation)
+      .Add("position_sigma", options.position_sigma);
+  report.Add("noise", noise);
   if (run_window) {
     // The newest state's marginal after every update (covariance CSV, NEES);
     // not part of the timed update.

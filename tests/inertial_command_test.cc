@@ -171,6 +171,8 @@ TEST(InertialCommandTest, CovarianceCsvNeesReportAndGroundTruthBias) {
     }
   }
   EXPECT_EQ(nees["pose"]["dof"].as<int>(), 6);
+  EXPECT_EQ(report["noise"]["gyro_noise_inflation"].as<double>(), 1.0);
+  EXPECT_EQ(report["noise"]["accel_noise_density"].as<double>(), 2.0e-3);
   EXPECT_EQ(nees["skip_seconds"].as<double>(), 10.0);
   EXPECT_GT(nees["keyframes"].as<int>(), 20);
   // The first filter state's bias: the simulated initial bias.
