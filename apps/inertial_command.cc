@@ -15,11 +15,22 @@
 //                                       estimate, when it left the window)
 //   window_filter.tum                   the newest state right after its
 //                                       update (real-time estimate)
-//   window_states.csv / batch_states.csv
+//   window_states.csv / batch_states.csv / window_filter_states.csv
 //       "#timestamp [ns],vx,vy,vz,bgx,bgy,bgz,bax,bay,baz" (world velocity,
 //       gyro then accel bias)
+//   covariance_window_filter.csv        the newest state's 15 x 15 marginal
+//                                       covariance after its update (format:
+//                                       apps/inertial_consistency_report.h)
+//   covariance_window.csv               the same for window.tum: each
+//                                       keyframe's covariance when it left
+//                                       the window
 // --gt FILE evaluates each estimate against a reference trajectory (any
-// format of `slam eval`), --gt input against the input's ground truth.
+// format of `slam eval`), --gt input against the input's ground truth; with
+// --gt input the window's estimates (real-time and fixed-lag) are also
+// checked for consistency: NEES of position, pose, velocity and bias after
+// the first 10 s (frontends/inertial/inertial_consistency.h), raw and after a
+// yaw-only alignment of the reference rotation, in the report under
+// evaluation.window_filter.nees and evaluation.window.nees.
 // Settings: defaults < --config FILE (`inertial:` section, see
 // apps/inertial_config.h) < explicit flags; --dump_config prints them.
 #include <gflags/gflags.h>
@@ -35,6 +46,7 @@
 #include "apps/common_flags.h"
 #include "apps/eval_report.h"
 #include "apps/inertial_config.h"
+#include "apps/inertial_consistency_report.h"
 #include "apps/json.h"
 #include "apps/yaml_config.h"
 #include "core/sliding_window.h"
@@ -105,8 +117,9 @@ std::string StatesCsv(const std::vector<InertialState>& states) {
 }
 
 // initial_state: ground_truth. Drops the IMU readings before the first
-// ground-truth state and starts there.
-bool StartAtGroundTruth(InertialData* data, std::string* error) {
+// ground-truth state and starts there, bias included (*bias: the prior mean
+// of the first keyframe's bias).
+bool StartAtGroundTruth(InertialData* data, ImuBias* bias, std::string* error) {
   if (data->ground_truth.empty()) {
     *error = "initial_state ground_truth: the input has no ground truth";
     return false;
@@ -130,12 +143,16 @@ bool StartAtGroundTruth(InertialData* data, std::string* error) {
   data->has_initial_state = true;
   data->initial_state.pose = start->pose;
   data->initial_state.velocity = start->velocity;
+  *bias = start->bias;
   return true;
 }
 
 struct Estimate {
   std::string name;  // "window", "window_filter", "batch"
   Trajectory trajectory;
+  // The states and their covariances (NEES), or nullptr (batch).
+  const std::vector<InertialState>* states = nullptr;
+  const std::vector<Eigen::MatrixXd>* covariances = nullptr;
 };
 
 }  // namespace
@@ -162,8 +179,10 @@ int RunInertialCommand(const std::vector<std::string>& args) {
     return 1;
   }
   if (config.gravity_auto) config.options.gravity = data.gravity;
+  // The densities the estimators use: data sheet x inflation.
+  InertialOptions options = EffectiveInertialOptions(config);
   if (config.initial_state == "ground_truth" &&
-      !StartAtGroundTruth(&data, &error)) {
+      !StartAtGroundTruth(&data, &options.initial_bias, &error)) {
     std::cerr << "slam inertial: " << FLAGS_i << ": " << error << "\n";
     return 1;
   }
@@ -186,8 +205,15 @@ int RunInertialCommand(const std::vector<std::string>& args) {
       "input %s: %zu IMU readings, %zu position fixes, gravity "
       "(%g, %g, %g), %s initial state\n",
       FLAGS_i.c_str(), data.imu.size(), data.positions.size(),
-      config.options.gravity.x(), config.options.gravity.y(),
-      config.options.gravity.z(), data.has_initial_state ? "with" : "without");
+      options.gravity.x(), options.gravity.y(), options.gravity.z(),
+      data.has_initial_state ? "with" : "without");
+  std::printf(
+      "noise: gyro %g rad/s/sqrt(Hz) (%g x %g), accel %g m/s^2/sqrt(Hz) (%g x "
+      "%g), random walks %g rad/s^2/sqrt(Hz), %g m/s^3/sqrt(Hz)\n",
+      options.noise.gyro_noise_density, config.options.noise.gyro_noise_density,
+      config.gyro_noise_inflation, options.noise.accel_noise_density,
+      config.options.noise.accel_noise_density, config.accel_noise_inflation,
+      options.noise.gyro_random_walk, options.noise.accel_random_walk);
 
   const bool run_window = config.estimator != "batch";
   const bool run_batch = config.estimator != "window";
@@ -196,14 +222,35 @@ int RunInertialCommand(const std::vector<std::string>& args) {
   std::vector<std::pair<std::string, std::string>> files;  // name, contents
   JsonObject report;
   report.Add("input", FLAGS_i).Add("estimator", config.estimator);
+  JsonObject noise;  // As used: data sheet densities x inflation.
+  noise.Add("gyro_noise_density", options.noise.gyro_noise_density)
+      .Add("accel_noise_density", options.noise.accel_noise_density)
+      .Add("gyro_random_walk", options.noise.gyro_random_walk)
+      .Add("accel_random_walk", options.noise.accel_random_walk)
+      .Add("gyro_noise_inflation", config.gyro_noise_inflation)
+      .Add("accel_noise_inflation", config.accel_noise_inflation)
+      .Add("position_sigma", options.position_sigma);
+  report.Add("noise", noise);
   if (run_window) {
-    if (!RunSlidingWindow(data, config.options, &window, &std::cout, &error)) {
+    // The newest state's marginal after every update (covariance CSV, NEES);
+    // not part of the timed update.
+    options.newest_covariance = true;
+    options.smoothed_covariance = true;
+    if (!RunSlidingWindow(data, options, &window, &std::cout, &error)) {
       std::cerr << "slam inertial: " << FLAGS_i << ": " << error << "\n";
       return 1;
     }
-    estimates.push_back({"window", ToTrajectory(window.smoothed)});
-    estimates.push_back({"window_filter", ToTrajectory(window.filter)});
+    estimates.push_back({"window", ToTrajectory(window.smoothed),
+                         &window.smoothed, &window.smoothed_covariance});
+    estimates.push_back({"window_filter", ToTrajectory(window.filter),
+                         &window.filter, &window.newest_covariance});
     files.emplace_back("window_states.csv", StatesCsv(window.smoothed));
+    files.emplace_back("window_filter_states.csv", StatesCsv(window.filter));
+    files.emplace_back("covariance_window_filter.csv",
+                       CovarianceCsv(window.filter, window.newest_covariance));
+    files.emplace_back(
+        "covariance_window.csv",
+        CovarianceCsv(window.smoothed, window.smoothed_covariance));
     const TimingSummary t = SummarizeTimes(window.update_seconds);
     JsonObject timing;
     timing.Add("updates", t.count)
@@ -215,7 +262,7 @@ int RunInertialCommand(const std::vector<std::string>& args) {
     report.Add("window", timing);
   }
   if (run_batch) {
-    if (!RunBatch(data, config.options,
+    if (!RunBatch(data, options,
                   run_window ? window.smoothed : std::vector<InertialState>(),
                   &batch, &std::cout, &error)) {
       std::cerr << "slam inertial: " << FLAGS_i << ": " << error << "\n";
@@ -252,7 +299,17 @@ int RunInertialCommand(const std::vector<std::string>& args) {
                   << "\n";
         return 1;
       }
-      evaluation.Add(e.name, EvalResultJson(result, settings));
+      JsonObject json = EvalResultJson(result, settings);
+      if (e.covariances != nullptr && FLAGS_gt == "input") {
+        JsonObject nees;
+        if (!EvaluateNees(e.name, *e.states, *e.covariances, data.ground_truth,
+                          NeesOptions(), std::cout, &nees, &error)) {
+          std::cerr << "slam inertial: " << error << "\n";
+          return 1;
+        }
+        json.Add("nees", nees);
+      }
+      evaluation.Add(e.name, json);
     }
     report.Add("evaluation", evaluation);
   }

@@ -40,16 +40,31 @@ bool LoadInertialConfig(const std::string& path, InertialConfig* config,
   if (!CheckTopLevelSections(root, path, error)) return false;
   const YAML::Node node = root["inertial"];
   if (!node) return true;
-  if (!CheckKnownKeys(
-          node,
-          {"input_format", "initial_state", "estimator", "keyframe_rate",
-           "window_size", "window_iterations", "linear_solver", "gravity",
-           "gyro_noise_density", "accel_noise_density", "gyro_random_walk",
-           "accel_random_walk", "position_sigma", "lever_arm",
-           "prior_position_sigma", "prior_rotation_sigma",
-           "prior_velocity_sigma", "prior_gyro_bias_sigma",
-           "prior_accel_bias_sigma"},
-          path, error)) {
+  if (!CheckKnownKeys(node,
+                      {"input_format",
+                       "initial_state",
+                       "estimator",
+                       "keyframe_rate",
+                       "window_size",
+                       "window_iterations",
+                       "linear_solver",
+                       "gravity",
+                       "gyro_noise_density",
+                       "accel_noise_density",
+                       "gyro_random_walk",
+                       "accel_random_walk",
+                       "position_sigma",
+                       "lever_arm",
+                       "prior_position_sigma",
+                       "prior_rotation_sigma",
+                       "prior_velocity_sigma",
+                       "prior_gyro_bias_sigma",
+                       "prior_accel_bias_sigma",
+                       "initial_gyro_bias",
+                       "initial_accel_bias",
+                       "gyro_noise_inflation",
+                       "accel_noise_inflation"},
+                      path, error)) {
     return false;
   }
   InertialOptions& o = config->options;
@@ -71,6 +86,10 @@ bool LoadInertialConfig(const std::string& path, InertialConfig* config,
                     error) ||
       !ReadOptional(node, "accel_random_walk", path, &o.noise.accel_random_walk,
                     error) ||
+      !ReadOptional(node, "gyro_noise_inflation", path,
+                    &config->gyro_noise_inflation, error) ||
+      !ReadOptional(node, "accel_noise_inflation", path,
+                    &config->accel_noise_inflation, error) ||
       !ReadOptional(node, "position_sigma", path, &o.position_sigma, error) ||
       !ReadVector3(node, "lever_arm", path, &o.lever_arm, error) ||
       !ReadOptional(node, "prior_position_sigma", path, &o.prior_position_sigma,
@@ -85,6 +104,13 @@ bool LoadInertialConfig(const std::string& path, InertialConfig* config,
                     &o.prior_accel_bias_sigma, error)) {
     return false;
   }
+  Eigen::Vector3d gyro_bias = o.initial_bias.head<3>();
+  Eigen::Vector3d accel_bias = o.initial_bias.tail<3>();
+  if (!ReadVector3(node, "initial_gyro_bias", path, &gyro_bias, error) ||
+      !ReadVector3(node, "initial_accel_bias", path, &accel_bias, error)) {
+    return false;
+  }
+  o.initial_bias << gyro_bias, accel_bias;
   const YAML::Node gravity = node["gravity"];
   if (gravity) {
     if (gravity.IsScalar() && gravity.as<std::string>() == "auto") {
@@ -148,6 +174,12 @@ bool ValidateInertialConfig(const InertialConfig& config, std::string* error) {
     *error = "noise densities and random walks must be > 0";
     return false;
   }
+  for (double f : {config.gyro_noise_inflation, config.accel_noise_inflation}) {
+    if (!(f > 0.0) || !std::isfinite(f)) {
+      *error = "noise inflations must be > 0";
+      return false;
+    }
+  }
   for (double sigma : {o.position_sigma, o.prior_position_sigma,
                        o.prior_rotation_sigma, o.prior_velocity_sigma,
                        o.prior_gyro_bias_sigma, o.prior_accel_bias_sigma}) {
@@ -156,8 +188,9 @@ bool ValidateInertialConfig(const InertialConfig& config, std::string* error) {
       return false;
     }
   }
-  if (!o.gravity.allFinite() || !o.lever_arm.allFinite()) {
-    *error = "gravity and lever_arm must be finite";
+  if (!o.gravity.allFinite() || !o.lever_arm.allFinite() ||
+      !o.initial_bias.allFinite()) {
+    *error = "gravity, lever_arm and the initial biases must be finite";
     return false;
   }
   return true;
@@ -182,14 +215,27 @@ std::string InertialConfigToYaml(const InertialConfig& config) {
       << "  accel_noise_density: " << o.noise.accel_noise_density << "\n"
       << "  gyro_random_walk: " << o.noise.gyro_random_walk << "\n"
       << "  accel_random_walk: " << o.noise.accel_random_walk << "\n"
+      << "  gyro_noise_inflation: " << config.gyro_noise_inflation << "\n"
+      << "  accel_noise_inflation: " << config.accel_noise_inflation << "\n"
       << "  position_sigma: " << o.position_sigma << "\n"
       << "  lever_arm: " << Vector3Yaml(o.lever_arm) << "\n"
       << "  prior_position_sigma: " << o.prior_position_sigma << "\n"
       << "  prior_rotation_sigma: " << o.prior_rotation_sigma << "\n"
       << "  prior_velocity_sigma: " << o.prior_velocity_sigma << "\n"
       << "  prior_gyro_bias_sigma: " << o.prior_gyro_bias_sigma << "\n"
-      << "  prior_accel_bias_sigma: " << o.prior_accel_bias_sigma << "\n";
+      << "  prior_accel_bias_sigma: " << o.prior_accel_bias_sigma << "\n"
+      << "  initial_gyro_bias: " << Vector3Yaml(o.initial_bias.head<3>())
+      << "\n"
+      << "  initial_accel_bias: " << Vector3Yaml(o.initial_bias.tail<3>())
+      << "\n";
   return out.str();
+}
+
+InertialOptions EffectiveInertialOptions(const InertialConfig& config) {
+  InertialOptions o = config.options;
+  o.noise.gyro_noise_density *= config.gyro_noise_inflation;
+  o.noise.accel_noise_density *= config.accel_noise_inflation;
+  return o;
 }
 
 }  // namespace slam

@@ -111,12 +111,17 @@ bool SlidingWindow::Update(WindowUpdateStats* stats, std::string* error) {
   }
   local.final_chi2 = graph_.Chi2();
   if (NumKeyframes() >= std::max(options_.window_size, 2)) {
+    if (options_.final_covariances) {
+      const auto cov_start = std::chrono::steady_clock::now();
+      RecordFinalCovariance(keyframes_.front().keys);
+      local.covariance_seconds = SecondsSince(cov_start);
+    }
     const auto marg_start = std::chrono::steady_clock::now();
     if (!MarginalizeOldest(error)) return false;
     local.marginalize_seconds = SecondsSince(marg_start);
     local.marginalized = true;
   }
-  local.seconds = SecondsSince(start);
+  local.seconds = SecondsSince(start) - local.covariance_seconds;
   update_seconds_.push_back(local.seconds);
   if (stats != nullptr) *stats = local;
   return true;
@@ -165,8 +170,16 @@ std::vector<std::vector<Key>> SlidingWindow::WindowKeys() const {
   return keys;
 }
 
+void SlidingWindow::RecordFinalCovariance(const std::vector<Key>& keys) {
+  Eigen::MatrixXd joint;
+  std::string ignored;
+  if (!JointCovariance(keys, &joint, &ignored)) joint.resize(0, 0);
+  final_covariances_.emplace_back(keys, std::move(joint));
+}
+
 void SlidingWindow::Finish() {
   for (const Keyframe& k : keyframes_) {
+    if (options_.final_covariances) RecordFinalCovariance(k.keys);
     for (const Key& key : k.keys) {
       final_values_[key] = graph_.FindNode(key)->value;
     }

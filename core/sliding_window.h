@@ -56,12 +56,19 @@ struct SlidingWindowOptions {
   // every later marginalization. false: each marginalization linearises at
   // the current values (priors then disagree on unobserved directions).
   bool first_estimate_jacobians = true;
+  // Also record every keyframe's joint covariance (its nodes in the order
+  // they were added, core/marginals.h) at the values final_values() keeps:
+  // right before it is marginalised, and at Finish() for those left. A
+  // diagnostic (consistency of the fixed-lag estimate): its time is not part
+  // of update_seconds().
+  bool final_covariances = false;
 };
 
 struct WindowUpdateStats {
   double seconds = 0.0;              // Whole Update() wall time.
   double solve_seconds = 0.0;        // Ceres part.
   double marginalize_seconds = 0.0;  // Marginalization part.
+  double covariance_seconds = 0.0;   // final_covariances (not in seconds).
   int iterations = 0;
   double final_chi2 = 0.0;  // g2o-convention chi2 of the window after.
   int keyframes = 0;        // Keyframes optimized.
@@ -98,14 +105,23 @@ class SlidingWindow {
   const std::map<Key, std::vector<double>>& final_values() const {
     return final_values_;
   }
-  // Copies the states still in the window into final_values().
+  // Copies the states still in the window into final_values() (and, with
+  // final_covariances, their covariances into final_covariances()).
   void Finish();
+  // With options.final_covariances: (keyframe keys, joint covariance) per
+  // keyframe, in the order the keyframes left the window (then Finish()'s);
+  // an empty matrix where the covariance could not be computed.
+  const std::vector<std::pair<std::vector<Key>, Eigen::MatrixXd>>&
+  final_covariances() const {
+    return final_covariances_;
+  }
   // Wall time of every Update() call, seconds.
   const std::vector<double>& update_seconds() const { return update_seconds_; }
   const SlidingWindowOptions& options() const { return options_; }
 
  private:
   bool MarginalizeOldest(std::string* error);
+  void RecordFinalCovariance(const std::vector<Key>& keys);
 
   struct Keyframe {
     TimeNs stamp = 0;
@@ -115,6 +131,7 @@ class SlidingWindow {
   Graph graph_;
   std::deque<Keyframe> keyframes_;
   std::map<Key, std::vector<double>> final_values_;
+  std::vector<std::pair<std::vector<Key>, Eigen::MatrixXd>> final_covariances_;
   LinearizationPoints linearization_points_;  // FEJ points of prior nodes.
   std::vector<double> update_seconds_;
 };

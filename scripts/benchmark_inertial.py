@@ -4,7 +4,12 @@ entries of configs/benchmarks/inertial.yaml and prints one table as markdown
 and CSV: ATE (position RMSE, no alignment) of the window's fixed-lag
 estimate, of its real-time (filter) estimate and of the batch, their ratio,
 median and 99th-percentile per-update time of the window against the target,
-and the batch time.
+the batch time, and with ground truth that has biases (`gt: input` entries,
+simulated runs) the mean NEES of the window's real-time estimate after the
+first 10 s (position 3, pose 6, bias 6 dof expected; pose also after the
+yaw-only alignment of the reference, see apps/inertial_consistency_report.h).
+An entry's `config:` (a file of configs/) gives its base `inertial:`
+settings, the entry's own `inertial:` keys go over them.
 
 Usage: scripts/benchmark_inertial.py [--datasets DIR] [--slam build/apps/slam]
        [--csv out.csv] [--md out.md] [--only SUBSTRING...]
@@ -28,6 +33,8 @@ COLUMNS = [
     ("name", "run"), ("keyframes", "keyframes"), ("window_size", "window"),
     ("ate_window", "ATE window m"), ("ate_filter", "ATE filter m"),
     ("ate_batch", "ATE batch m"), ("ratio", "window/batch"),
+    ("nees_position", "NEES pos"), ("nees_pose", "NEES pose"),
+    ("nees_pose_yaw", "NEES pose yaw-aligned"), ("nees_bias", "NEES bias"),
     ("median_ms", "update median ms"), ("p99_ms", "update p99 ms"),
     ("target_ms", "target ms"), ("batch_s", "batch s"), ("ok", "ok"),
 ]
@@ -44,8 +51,12 @@ def run(cmd):
 def run_entry(entry, args, tmp, index):
     work = os.path.join(tmp, str(index))
     os.makedirs(work)
-    config = {"inertial": entry.get("inertial", {}),
-              "eval": {"align": "none"}}
+    inertial = {}
+    if "config" in entry:
+        with open(os.path.join(ROOT, entry["config"])) as f:
+            inertial = dict((yaml.safe_load(f) or {}).get("inertial", {}))
+    inertial.update(entry.get("inertial", {}))
+    config = {"inertial": inertial, "eval": {"align": "none"}}
     if "simulate" in entry:
         sim = dict(entry["simulate"])
         config["simulate"] = {"world": {"type": "inertial"}}
@@ -65,7 +76,7 @@ def run_entry(entry, args, tmp, index):
             print("skip %s: %s not found" % (entry["name"], data),
                   file=sys.stderr)
             return None
-        gt = []
+        gt = ["--gt", entry["gt"]] if "gt" in entry else []
     report_path = os.path.join(work, "report.json")
     out = run([args.slam, "inertial", "-i", data, "-o",
                os.path.join(work, "out"), "--config", config_path,
@@ -85,6 +96,12 @@ def run_entry(entry, args, tmp, index):
                       ("ate_batch", "batch")):
         if name in evaluation:
             row[key] = evaluation[name]["ape_translation"]["rmse"]
+    nees = evaluation.get("window_filter", {}).get("nees")
+    if nees:
+        row["nees_position"] = nees["position"]["mean"]
+        row["nees_pose"] = nees["pose"]["mean"]
+        row["nees_pose_yaw"] = nees["yaw_aligned"]["pose"]["mean"]
+        row["nees_bias"] = nees["bias"]["mean"]
     if row.get("ate_window") is not None and row.get("ate_batch"):
         row["ratio"] = row["ate_window"] / row["ate_batch"]
     ok = row["median_ms"] is not None and row["p99_ms"] is not None and \

@@ -4,6 +4,8 @@
 //     truth, JSON report with the per-update timing;
 //   * the GTSAM imuAndGPSdata.csv (real file, skipped when absent): both
 //     estimates pass within a few sigma of the GPS fixes;
+//   * covariance CSV (parsed back), NEES in the report, ground-truth start
+//     with the truth's bias;
 //   * --dump_config round trip; bad input and bad configs fail with a clear
 //     message and write nothing.
 #include <cmath>
@@ -13,6 +15,10 @@
 #include <string>
 #include <vector>
 
+#include <yaml-cpp/yaml.h>
+#include <Eigen/Cholesky>
+
+#include "apps/inertial_consistency_report.h"
 #include "gtest/gtest.h"
 #include "tests/test_util.h"
 
@@ -99,6 +105,88 @@ TEST(InertialCommandTest, SimulatedEurocWindowAndBatch) {
     }
     EXPECT_LT(std::sqrt(sum / n), 0.15) << name;
   }
+}
+
+// Covariance CSV and NEES report: one 15 x 15 positive definite covariance
+// per filter keyframe (and per fixed-lag keyframe), parsed back; with --gt
+// input the report holds evaluation.window_filter.nees.{position,pose,bias}.
+// {mean,median} (raw and yaw-aligned), and the same under window.
+// initial_state: ground_truth starts at the truth's bias too (with a tight bias
+// prior, the first estimate holds the simulated bias).
+TEST(InertialCommandTest, CovarianceCsvNeesReportAndGroundTruthBias) {
+  const std::string dir = TempDir();
+  WriteText(dir + "/sim.yaml",
+            "simulate:\n  seed: 4\n  world:\n    type: inertial\n"
+            "  inertial:\n    duration: 15.0\n    position_rate: 5.0\n"
+            "    initial_gyro_bias: [0.002, -0.001, 0.0015]\n"
+            "    initial_accel_bias: [0.03, -0.02, 0.05]\n");
+  ASSERT_EQ(RunSlam("simulate --config " + dir + "/sim.yaml -o " + dir + "/sim",
+                    dir + "/sim.log"),
+            0)
+      << ReadText(dir + "/sim.log");
+  WriteText(dir + "/run.yaml",
+            "inertial:\n  initial_state: ground_truth\n"
+            "  prior_gyro_bias_sigma: 1e-7\n  prior_accel_bias_sigma: 1e-7\n");
+  ASSERT_EQ(RunSlam("inertial -i " + dir + "/sim -o " + dir +
+                        "/out --estimator window --gt input --config " + dir +
+                        "/run.yaml --report " + dir + "/report.json",
+                    dir + "/run.log"),
+            0)
+      << ReadText(dir + "/run.log");
+  const std::string log = ReadText(dir + "/run.log");
+  EXPECT_TRUE(Contains(log, "NEES of window_filter")) << log;
+  std::vector<TimeNs> stamps;
+  std::vector<Eigen::MatrixXd> covs;
+  std::string error;
+  ASSERT_TRUE(
+      ParseCovarianceCsv(ReadText(dir + "/out/covariance_window_filter.csv"),
+                         &stamps, &covs, &error))
+      << error;
+  const auto filter = ReadTum(dir + "/out/window_filter.tum");
+  ASSERT_EQ(covs.size(), filter.size());
+  ASSERT_GT(covs.size(), 100u);
+  size_t k = 0;
+  for (const auto& [t_us, p] : filter) {
+    EXPECT_EQ(std::llround(stamps[k] * 1e-3), t_us);
+    EXPECT_EQ(Eigen::LLT<Eigen::MatrixXd>(covs[k]).info(), Eigen::Success);
+    ++k;
+  }
+  // The fixed-lag estimate's covariances: one per keyframe of window.tum.
+  std::vector<TimeNs> smoothed_stamps;
+  std::vector<Eigen::MatrixXd> smoothed_covs;
+  ASSERT_TRUE(ParseCovarianceCsv(ReadText(dir + "/out/covariance_window.csv"),
+                                 &smoothed_stamps, &smoothed_covs, &error))
+      << error;
+  EXPECT_EQ(smoothed_covs.size(), ReadTum(dir + "/out/window.tum").size());
+  const YAML::Node report = YAML::LoadFile(dir + "/report.json");
+  EXPECT_GT(report["evaluation"]["window"]["nees"]["bias"]["mean"].as<double>(),
+            0.0);
+  const YAML::Node nees = report["evaluation"]["window_filter"]["nees"];
+  ASSERT_TRUE(nees.IsMap()) << ReadText(dir + "/report.json");
+  for (const char* block : {"position", "pose", "velocity", "bias"}) {
+    for (const char* stat : {"mean", "median"}) {
+      EXPECT_GT(nees[block][stat].as<double>(), 0.0) << block << " " << stat;
+      EXPECT_GT(nees["yaw_aligned"][block][stat].as<double>(), 0.0)
+          << block << " " << stat;
+    }
+  }
+  EXPECT_EQ(nees["pose"]["dof"].as<int>(), 6);
+  EXPECT_EQ(report["noise"]["gyro_noise_inflation"].as<double>(), 1.0);
+  EXPECT_EQ(report["noise"]["accel_noise_density"].as<double>(), 2.0e-3);
+  EXPECT_EQ(nees["skip_seconds"].as<double>(), 10.0);
+  EXPECT_GT(nees["keyframes"].as<int>(), 20);
+  // The first filter state's bias: the simulated initial bias.
+  std::ifstream states(dir + "/out/window_filter_states.csv");
+  std::string line;
+  std::getline(states, line);  // Header.
+  std::getline(states, line);
+  std::vector<double> v;
+  std::stringstream fields(line);
+  std::string f;
+  while (std::getline(fields, f, ',')) v.push_back(std::stod(f));
+  ASSERT_EQ(v.size(), 10u) << line;
+  const double expected[6] = {0.002, -0.001, 0.0015, 0.03, -0.02, 0.05};
+  for (int i = 0; i < 6; ++i) EXPECT_NEAR(v[4 + i], expected[i], 1e-5) << i;
 }
 
 TEST(InertialCommandTest, GtsamImuAndGpsRunsEndToEnd) {

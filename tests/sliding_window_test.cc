@@ -29,11 +29,13 @@
 #include "ceres/cost_function.h"
 #include "core/graph.h"
 #include "core/manifolds.h"
+#include "core/marginals.h"
 #include "core/optimizer.h"
 #include "datasets/inertial_simulator.h"
 #include "factors/marginalization_prior.h"
 #include "frontends/inertial/inertial_estimator.h"
 #include "gtest/gtest.h"
+#include "tests/test_inertial_simulation.h"
 #include "tests/test_linear_cost.h"
 #include "tests/test_random.h"
 
@@ -57,6 +59,27 @@ Factor Linear(const std::vector<Key>& keys, TestRng* rng) {
   return f;
 }
 
+// Keyframe k of a linear chain: a "position fix" on Point3Key(k) and links
+// to the `links` keyframes before it, added to the full graph and the
+// window.
+bool AddLinearKeyframe(int k, int links, TestRng* rng, Graph* full,
+                       SlidingWindow* window, std::string* error) {
+  std::vector<Factor> factors;
+  factors.push_back(Linear({Point3Key(k)}, rng));
+  for (int l = 1; l <= links && l <= k; ++l) {
+    factors.push_back(Linear({Point3Key(k - l), Point3Key(k)}, rng));
+  }
+  full->AddNode(Point3Key(k), {0.0, 0.0, 0.0});
+  for (const Factor& f : factors) {
+    if (full->AddFactor(f) < 0) {
+      *error = "full graph refused a factor";
+      return false;
+    }
+  }
+  return window->AddKeyframe(1000 * (k + 1), {{Point3Key(k), {1, 2, 3}}},
+                             factors, error);
+}
+
 TEST(SlidingWindowTest, LinearNewestStateEqualsFullBatch) {
   TestRng rng(5);
   SlidingWindowOptions options;
@@ -72,17 +95,7 @@ TEST(SlidingWindowTest, LinearNewestStateEqualsFullBatch) {
       batch.parameter_tolerance = 1e-14;
   std::string error;
   for (int k = 0; k < 20; ++k) {
-    std::vector<Factor> factors;
-    factors.push_back(Linear({Point3Key(k)}, &rng));  // "position fix"
-    if (k > 0)
-      factors.push_back(Linear({Point3Key(k - 1), Point3Key(k)}, &rng));
-    if (k > 1)
-      factors.push_back(Linear({Point3Key(k - 2), Point3Key(k)}, &rng));
-    full.AddNode(Point3Key(k), {0.0, 0.0, 0.0});
-    for (const Factor& f : factors) ASSERT_GE(full.AddFactor(f), 0);
-    ASSERT_TRUE(window.AddKeyframe(1000 * (k + 1), {{Point3Key(k), {1, 2, 3}}},
-                                   factors, &error))
-        << error;
+    ASSERT_TRUE(AddLinearKeyframe(k, 2, &rng, &full, &window, &error)) << error;
     WindowUpdateStats stats;
     ASSERT_TRUE(window.Update(&stats, &error)) << error;
     EXPECT_LE(stats.keyframes, options.window_size);
@@ -106,6 +119,49 @@ TEST(SlidingWindowTest, LinearNewestStateEqualsFullBatch) {
   EXPECT_EQ(window.graph().NumNodes(), nodes);
 }
 
+// final_covariances: each keyframe's covariance when it leaves the window is
+// the full batch's marginal over the factors so far (exact for linear
+// factors); Finish() adds those left; the covariance is not in the update
+// time.
+TEST(SlidingWindowTest, LinearFinalCovariancesEqualFullBatchMarginals) {
+  TestRng rng(8);
+  SlidingWindowOptions options;
+  options.window_size = 4;
+  options.prior_builder = MakeMarginalizationPrior;
+  options.final_covariances = true;
+  SlidingWindow window(options);
+  Graph full;
+  std::map<int, Eigen::MatrixXd> expected;  // Keyframe -> batch marginal.
+  std::string error;
+  constexpr int kKeyframes = 12;
+  for (int k = 0; k < kKeyframes; ++k) {
+    ASSERT_TRUE(AddLinearKeyframe(k, 1, &rng, &full, &window, &error)) << error;
+    WindowUpdateStats stats;
+    ASSERT_TRUE(window.Update(&stats, &error)) << error;
+    EXPECT_EQ(stats.covariance_seconds > 0.0, stats.marginalized);
+    const int leaving = k + 1 - options.window_size;
+    if (leaving >= 0) {
+      ASSERT_TRUE(ComputeJointMarginal(&full, {Point3Key(leaving)},
+                                       &expected[leaving], &error))
+          << error;
+    }
+  }
+  window.Finish();
+  for (int k = kKeyframes + 1 - options.window_size; k < kKeyframes; ++k) {
+    ASSERT_TRUE(
+        ComputeJointMarginal(&full, {Point3Key(k)}, &expected[k], &error))
+        << error;
+  }
+  const auto& covs = window.final_covariances();
+  ASSERT_EQ(covs.size(), static_cast<size_t>(kKeyframes));
+  for (int k = 0; k < kKeyframes; ++k) {
+    ASSERT_EQ(covs[k].first, std::vector<Key>{Point3Key(k)});
+    ASSERT_EQ(covs[k].second.rows(), 3);
+    EXPECT_LT((covs[k].second - expected[k]).norm(), 1e-9 * expected[k].norm())
+        << "keyframe " << k;
+  }
+}
+
 TEST(SlidingWindowTest, TimingSummary) {
   std::vector<double> t;
   for (int i = 1; i <= 200; ++i) t.push_back(i * 1e-3);
@@ -116,40 +172,16 @@ TEST(SlidingWindowTest, TimingSummary) {
   EXPECT_EQ(s.count, 200u);
 }
 
-// Simulated IMU + fixes (datasets/inertial_simulator.h) with the truth at
-// every IMU sample. The initial biases are drawn from the estimator's bias
-// prior (mean zero) and the initial state handed to the estimator is the
-// truth perturbed with the prior sigmas, so that the prior is consistent.
+// Simulated IMU + fixes with a consistent start
+// (tests/test_inertial_simulation.h), the truth at every IMU sample.
 struct SimulatedLog {
   InertialData log;
 };
 
 SimulatedLog Simulate(unsigned seed, double duration, double fix_rate_hz,
                       const InertialOptions& options) {
-  TestRng rng(seed);
-  InertialSimulationConfig config;
-  config.duration = duration;
-  config.imu_rate = 200.0;
-  config.position_rate = fix_rate_hz;
-  config.position_sigma = options.position_sigma;
-  config.noise = options.noise;
-  config.gravity = options.gravity;
-  config.seed = seed;
-  for (int i = 0; i < 3; ++i) {
-    config.initial_gyro_bias[i] = options.prior_gyro_bias_sigma * rng.Normal();
-    config.initial_accel_bias[i] =
-        options.prior_accel_bias_sigma * rng.Normal();
-  }
-  SimulatedLog sim;
-  std::string error;
-  EXPECT_TRUE(SimulateInertial(config, &sim.log, &error)) << error;
-  NavState& init = sim.log.initial_state;
-  init.pose.t += options.prior_position_sigma * rng.Normal3();
-  init.pose.q =
-      init.pose.q * QuaternionExp<double>(Eigen::Vector3d(
-                        options.prior_rotation_sigma * rng.Normal3()));
-  init.velocity += options.prior_velocity_sigma * rng.Normal3();
-  return sim;
+  return {
+      testing::SimulateConsistentStart(seed, duration, fix_rate_hz, options)};
 }
 
 const InertialGroundTruth& Truth(const SimulatedLog& sim, TimeNs stamp) {

@@ -259,6 +259,7 @@ bool RunSlidingWindow(const InertialData& data, const InertialOptions& options,
   const InitialGuess guess = MakeInitialGuess(data, options);
   SlidingWindowOptions window_options = options.window;
   window_options.prior_builder = MakeMarginalizationPrior;
+  window_options.final_covariances = options.smoothed_covariance;
   SlidingWindow window(window_options);
   const size_t n = plan.sample.size();
   std::vector<Factor> factors;
@@ -314,6 +315,17 @@ bool RunSlidingWindow(const InertialData& data, const InertialOptions& options,
     }
   }
   window.Finish();
+  if (options.smoothed_covariance) {
+    // Keyframes leave the window in order, Finish() adds the rest in order.
+    for (const auto& [keys, cov] : window.final_covariances()) {
+      if (cov.rows() != 15) {
+        *error = "keyframe " + std::to_string(run->smoothed_covariance.size()) +
+                 ": no covariance at its smoothed value";
+        return false;
+      }
+      run->smoothed_covariance.push_back(cov);
+    }
+  }
   for (size_t k = 0; k < n; ++k) {
     const int64_t id = static_cast<int64_t>(k);
     const auto& v = window.final_values();

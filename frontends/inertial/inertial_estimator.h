@@ -56,6 +56,10 @@ struct InertialOptions {
   // Marginal covariance of the newest keyframe after every window update
   // (for consistency checks; costs a covariance computation per update).
   bool newest_covariance = false;
+  // The same joint covariance of every keyframe at its fixed-lag (smoothed)
+  // value: right before it leaves the window (SlidingWindowOptions::
+  // final_covariances).
+  bool smoothed_covariance = false;
   bool batch_verbose = false;
 };
 
@@ -74,6 +78,8 @@ struct InertialRun {
   // included) over (pose rho, phi (body, translation first), velocity, bias)
   // of the newest keyframe after each update, as `filter`.
   std::vector<Eigen::MatrixXd> newest_covariance;
+  // With smoothed_covariance: the same for `smoothed` (window only).
+  std::vector<Eigen::MatrixXd> smoothed_covariance;
   std::vector<double> update_seconds;  // Window updates.
   double total_seconds = 0.0;
   int num_fixes_used = 0;

@@ -1,0 +1,53 @@
+// Covariance output and NEES report of `slam inertial`
+// (apps/inertial_command.cc), NEES as frontends/inertial/
+// inertial_consistency.h defines it.
+//
+// Covariance CSV (OUT/covariance_window_filter.csv): one row per keyframe,
+// the newest state's 15 x 15 joint marginal covariance right after its
+// window update, upper triangle row by row (120 values) after the stamp.
+// Tangent order and units: px py pz [m] (body-frame position perturbation),
+// thx thy thz [rad] (body-frame rotation, right perturbation), vx vy vz
+// [m/s] (world), bgx bgy bgz [rad/s], bax bay baz [m/s^2]; a column is named
+// "cov(a,b) [unit a * unit b]", e.g. "cov(px,thz) [m*rad]".
+#ifndef SLAM_APPS_INERTIAL_CONSISTENCY_REPORT_H_
+#define SLAM_APPS_INERTIAL_CONSISTENCY_REPORT_H_
+
+#include <Eigen/Core>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "apps/json.h"
+#include "datasets/imu_io.h"
+#include "frontends/inertial/inertial_consistency.h"
+#include "frontends/inertial/inertial_estimator.h"
+
+namespace slam {
+
+// The covariance CSV text (format above). States and covariances pair up by
+// index (their sizes must agree).
+std::string CovarianceCsv(const std::vector<InertialState>& states,
+                          const std::vector<Eigen::MatrixXd>& covariances);
+
+// Parses CovarianceCsv's text back (for tests and tools): stamps and full
+// symmetric 15 x 15 matrices. False with "line N: problem" on bad text.
+bool ParseCovarianceCsv(const std::string& text, std::vector<TimeNs>* stamps,
+                        std::vector<Eigen::MatrixXd>* covariances,
+                        std::string* error);
+
+// NEES of `states` (with `covariances`) against `reference` after
+// options.skip_seconds, raw and after the yaw-only alignment of the
+// reference rotation (EstimateYawOffset); prints a short table to `out` and
+// returns the report object:
+//   {keyframes, skip_seconds, position|pose|velocity|bias: {mean, median,
+//    dof}, yaw_aligned: {yaw_offset_deg, position|pose|velocity|bias: ...}}
+bool EvaluateNees(const std::string& name,
+                  const std::vector<InertialState>& states,
+                  const std::vector<Eigen::MatrixXd>& covariances,
+                  const std::vector<InertialGroundTruth>& reference,
+                  const NeesOptions& options, std::ostream& out,
+                  JsonObject* json, std::string* error);
+
+}  // namespace slam
+
+#endif  // SLAM_APPS_INERTIAL_CONSISTENCY_REPORT_H_
