@@ -96,8 +96,9 @@ def run_once(slam, config):
         err.seek(0)
         stdout, stderr = out.read(), err.read()
     if proc.returncode != 0:
-        sys.exit("slam run --config %s failed (exit %d):\n%s" %
-                 (config, proc.returncode, stderr[-2000:]))
+        print("slam run --config %s failed (exit %d):\n%s" %
+              (config, proc.returncode, stderr[-2000:]), file=sys.stderr)
+        return None
     # ru_maxrss is in kilobytes on Linux.
     return (stdout, wall, usage.ru_utime + usage.ru_stime,
             usage.ru_maxrss / 1024.0)
@@ -130,25 +131,35 @@ def main():
     if not logs:
         sys.exit("benchmark_laser: no log with a .relations file in " + folder)
     slam = run_benchmarks.find_slam(args.slam)
-    rows = []
+    rows, failed = [], []
     with tempfile.TemporaryDirectory() as tmp:
         for name, log, relations in logs:
             config = os.path.join(tmp, name + ".yaml")
             write_config(config, log, relations, os.path.join(tmp, name))
-            walls, cpus, mems, errors = [], [], [], set()
+            walls, cpus, mems, errors, match = [], [], [], set(), None
             for i in range(args.runs):
-                text, wall, cpu, mem = run_once(slam, config)
+                result = run_once(slam, config)
+                if result is None:
+                    break
+                text, wall, cpu, mem = result
                 walls.append(wall)
                 cpus.append(cpu)
                 mems.append(mem)
                 match = RELATION.search(text)
                 if not match:
-                    sys.exit("benchmark_laser: no relation error in the "
-                             "output of %s:\n%s" % (name, text[-2000:]))
+                    print("benchmark_laser: no relation error in the output "
+                          "of %s:\n%s" % (name, text[-2000:]), file=sys.stderr)
+                    break
                 errors.add(match.groups())
                 print("%s run %d/%d: %.1f s wall, %.1f s CPU, %.0f MB" %
                       (name, i + 1, args.runs, wall, cpu, mem),
                       file=sys.stderr)
+            if len(walls) < args.runs or not match:
+                # A log that fails still gets its row (and the exit status).
+                failed.append(name)
+                rows.append({"log": os.path.basename(log),
+                             "trans": "failed", "rot": "failed"})
+                continue
             if len(errors) > 1:
                 print("benchmark_laser: %s: the runs differ in their relation "
                       "error; the table shows the last" % name,
@@ -181,6 +192,8 @@ def main():
     print("benchmark_laser: %d logs, %d run(s) each (times and memory: "
           "medians), Cartographer: Hess et al. 2016, Table II" %
           (len(rows), args.runs))
+    if failed:
+        sys.exit("benchmark_laser: failed: " + ", ".join(failed))
 
 
 if __name__ == "__main__":
