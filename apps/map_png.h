@@ -12,6 +12,12 @@
 
 namespace slam {
 
+// Longest side of the map picture in pixels: larger maps are drawn with
+// cells merged (OccupancyGrid::ToImage(max_side), DownsampleMapImage), so
+// that the picture costs the same whatever the map's extent; the PGM keeps
+// the full resolution.
+constexpr int kMapPngMaxSide = 4096;
+
 // False with "PATH: problem" (or the module's load error).
 bool WriteMapPng(const std::string& path, const MapImage& image,
                  const std::vector<Eigen::Vector2d>& trajectory,

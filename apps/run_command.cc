@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -93,29 +94,38 @@ double Since(std::chrono::steady_clock::time_point start) {
 }
 
 // The occupancy grid from the keyframe scans at their optimized poses:
-// map.pgm + map.yaml (map_server) and map.png with the trajectory.
+// map.pgm + map.yaml (map_server, full resolution) and map.png with the
+// trajectory (at most kMapPngMaxSide pixels on a side: cells merged).
 bool WriteMap(const RunConfig& config, const LaserSlam& slam,
               const CarmenLog& log, std::string* summary, std::string* error) {
   OccupancyGrid grid(config.map);
   InsertKeyframeScans(slam, log.scans, &grid);
-  const MapImage image = grid.ToImage();
   const fs::path dir(config.output_dir);
   std::vector<Eigen::Vector2d> path;
   for (const StampedPose& p : slam.ScanTrajectory()) {
     path.push_back(p.pose.t.head<2>());
   }
+  const MapImage picture = grid.ToImage(kMapPngMaxSide);
   if (!WriteMapPgmYaml((dir / "map.pgm").string(), (dir / "map.yaml").string(),
-                       image, config.map, error) ||
-      !WriteMapPng((dir / "map.png").string(), image, path, error)) {
+                       grid, error) ||
+      !WriteMapPng((dir / "map.png").string(), picture, path, error)) {
     return false;
   }
   const MapSharpness sharpness = MeasureSharpness(grid);
-  char text[256];
+  int64_t cols = 0, rows = 0;
+  grid.ObservedExtent(&cols, &rows);
+  const int64_t merged = std::max<int64_t>(
+      1, std::llround(picture.resolution / config.map.resolution));
+  char text[384];
   std::snprintf(text, sizeof(text),
-                "map %d x %d cells at %.3f m: %zu observed, %zu occupied, "
-                "%zu mixed-evidence (%.1f%% of mixed + occupied: lower is "
-                "sharper), wrote map.pgm, map.yaml, map.png",
-                image.width, image.height, image.resolution, sharpness.observed,
+                "map %lld x %lld cells at %.3f m (%.0f MB of tiles; picture "
+                "%d x %d, %lld x %lld cells a pixel): %zu observed, %zu "
+                "occupied, %zu mixed-evidence (%.1f%% of mixed + occupied: "
+                "lower is sharper), wrote map.pgm, map.yaml, map.png",
+                static_cast<long long>(cols), static_cast<long long>(rows),
+                config.map.resolution, grid.allocated_cells() * 8.0 / 1e6,
+                picture.width, picture.height, static_cast<long long>(merged),
+                static_cast<long long>(merged), sharpness.observed,
                 sharpness.occupied, sharpness.mixed,
                 100.0 * sharpness.MixedFraction());
   *summary = text;

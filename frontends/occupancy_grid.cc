@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <limits>
 #include <string_view>
 
 #include "datasets/atomic_file.h"
@@ -14,8 +15,32 @@
 namespace slam {
 namespace {
 
-// Cells added beyond what a scan needs when the grid grows (at least).
-constexpr int64_t kGrowMargin = 64;
+// Tiles added beyond what a scan needs when the tile directory grows (at
+// least; only pointers).
+constexpr int64_t kGrowMarginTiles = 4;
+
+// floor(a / b) for b > 0.
+int64_t FloorDiv(int64_t a, int64_t b) {
+  return a >= 0 ? a / b : -((-a + b - 1) / b);
+}
+
+// The tile of a cell index, and the cell's place in its tile.
+int64_t TileIndex(int64_t i) { return FloorDiv(i, OccupancyGrid::kTileSide); }
+int64_t InTile(int64_t i) {
+  return i - TileIndex(i) * OccupancyGrid::kTileSide;
+}
+
+// k for a picture of at most max_side pixels on a side (1: full size).
+int64_t MergeFactor(int64_t cols, int64_t rows, int max_side) {
+  if (max_side <= 0) return 1;
+  return std::max<int64_t>(1, (std::max(cols, rows) + max_side - 1) / max_side);
+}
+
+uint8_t PixelOf(CellState state) {
+  return state == CellState::kOccupied ? kPixelOccupied
+         : state == CellState::kFree   ? kPixelFree
+                                       : kPixelUnknown;
+}
 
 double Probability(double log_odds) {
   return 1.0 - 1.0 / (1.0 + std::exp(log_odds));
@@ -83,7 +108,11 @@ bool CheckOccupancyGridConfig(const OccupancyGridConfig& c,
   }
   // One scan of the usable range must fit in the grid: otherwise the map
   // cannot hold a single scan and the run would fail after all its work.
-  const double side = 2.0 * c.max_usable_range / c.resolution + 1.0;
+  // In whole tiles: a scan's box of cells can straddle one more tile.
+  const double side = (std::floor(2.0 * c.max_usable_range / c.resolution /
+                                  OccupancyGrid::kTileSide) +
+                       2.0) *
+                      OccupancyGrid::kTileSide;
   if (side * side > static_cast<double>(c.max_cells)) {
     char text[256];
     std::snprintf(text, sizeof(text),
@@ -111,64 +140,60 @@ int64_t OccupancyGrid::CellIndex(double coordinate) const {
   return static_cast<int64_t>(f);
 }
 
-int64_t OccupancyGrid::Offset(int64_t ix, int64_t iy) const {
-  const int64_t col = ix - min_ix_;
-  const int64_t row = iy - min_iy_;
-  if (col < 0 || row < 0 || col >= width_ || row >= height_) return -1;
-  return row * width_ + col;
+const OccupancyGrid::Tile* OccupancyGrid::TileOf(int64_t ix, int64_t iy) const {
+  const int64_t tx = TileIndex(ix) - tile_x0_;
+  const int64_t ty = TileIndex(iy) - tile_y0_;
+  if (tx < 0 || ty < 0 || tx >= tiles_w_ || ty >= tiles_h_) return nullptr;
+  return tiles_[ty * tiles_w_ + tx].get();
 }
 
-bool OccupancyGrid::Grow(int64_t x0, int64_t y0, int64_t x1, int64_t y1) {
-  if (width_ > 0 && x0 >= min_ix_ && y0 >= min_iy_ && x1 < min_ix_ + width_ &&
-      y1 < min_iy_ + height_) {
+bool OccupancyGrid::Reserve(int64_t tx0, int64_t ty0, int64_t tx1,
+                            int64_t ty1) {
+  // The extent the map would have: limited, the directory is not.
+  const bool empty = extent_x0_ > extent_x1_;
+  const int64_t ex0 = empty ? tx0 : std::min(tx0, extent_x0_);
+  const int64_t ey0 = empty ? ty0 : std::min(ty0, extent_y0_);
+  const int64_t ex1 = empty ? tx1 : std::max(tx1, extent_x1_);
+  const int64_t ey1 = empty ? ty1 : std::max(ty1, extent_y1_);
+  const double cells = static_cast<double>(ex1 - ex0 + 1) *
+                       static_cast<double>(ey1 - ey0 + 1) * kTileCells;
+  if (cells > static_cast<double>(config_.max_cells)) return false;
+  extent_x0_ = ex0;
+  extent_y0_ = ey0;
+  extent_x1_ = ex1;
+  extent_y1_ = ey1;
+  if (tiles_w_ > 0 && tx0 >= tile_x0_ && ty0 >= tile_y0_ &&
+      tx1 < tile_x0_ + tiles_w_ && ty1 < tile_y0_ + tiles_h_) {
     return true;
   }
-  int64_t nx0 = x0 - kGrowMargin;
-  int64_t ny0 = y0 - kGrowMargin;
-  int64_t nx1 = x1 + kGrowMargin;
-  int64_t ny1 = y1 + kGrowMargin;
-  if (width_ > 0) {
-    // Grow by at least half the current size on a side that must grow, so
-    // that a long run costs few copies.
-    const int64_t mx = std::max(kGrowMargin, width_ / 2);
-    const int64_t my = std::max(kGrowMargin, height_ / 2);
-    nx0 = x0 < min_ix_ ? std::min(nx0, min_ix_ - mx) : min_ix_;
-    ny0 = y0 < min_iy_ ? std::min(ny0, min_iy_ - my) : min_iy_;
-    const int64_t old_x1 = min_ix_ + width_ - 1;
-    const int64_t old_y1 = min_iy_ + height_ - 1;
-    nx1 = x1 > old_x1 ? std::max(nx1, old_x1 + mx) : old_x1;
-    ny1 = y1 > old_y1 ? std::max(ny1, old_y1 + my) : old_y1;
+  // Grow by at least half the current size on a side that must grow, so
+  // that a long run moves the pointers few times.
+  const int64_t mx = std::max(kGrowMarginTiles, tiles_w_ / 2);
+  const int64_t my = std::max(kGrowMarginTiles, tiles_h_ / 2);
+  int64_t nx0 = tx0 - kGrowMarginTiles, ny0 = ty0 - kGrowMarginTiles;
+  int64_t nx1 = tx1 + kGrowMarginTiles, ny1 = ty1 + kGrowMarginTiles;
+  if (tiles_w_ > 0) {
+    const int64_t old_x1 = tile_x0_ + tiles_w_ - 1;
+    const int64_t old_y1 = tile_y0_ + tiles_h_ - 1;
+    nx0 = tx0 < tile_x0_ ? std::min(nx0, tile_x0_ - mx) : tile_x0_;
+    ny0 = ty0 < tile_y0_ ? std::min(ny0, tile_y0_ - my) : tile_y0_;
+    nx1 = tx1 > old_x1 ? std::max(nx1, old_x1 + mx) : old_x1;
+    ny1 = ty1 > old_y1 ? std::max(ny1, old_y1 + my) : old_y1;
   }
-  const auto too_large = [&] {
-    return static_cast<double>(nx1 - nx0 + 1) *
-               static_cast<double>(ny1 - ny0 + 1) >
-           static_cast<double>(config_.max_cells);
-  };
-  if (too_large()) {
-    // Without the margins, in case that fits.
-    nx0 = width_ > 0 ? std::min(x0, min_ix_) : x0;
-    ny0 = width_ > 0 ? std::min(y0, min_iy_) : y0;
-    nx1 = width_ > 0 ? std::max(x1, min_ix_ + width_ - 1) : x1;
-    ny1 = width_ > 0 ? std::max(y1, min_iy_ + height_ - 1) : y1;
-    if (too_large()) return false;
+  const int64_t new_w = nx1 - nx0 + 1;
+  const int64_t new_h = ny1 - ny0 + 1;
+  std::vector<std::unique_ptr<Tile>> tiles(new_w * new_h);
+  for (int64_t row = 0; row < tiles_h_; ++row) {
+    for (int64_t col = 0; col < tiles_w_; ++col) {
+      tiles[(row + tile_y0_ - ny0) * new_w + (col + tile_x0_ - nx0)] =
+          std::move(tiles_[row * tiles_w_ + col]);
+    }
   }
-  const int64_t new_width = nx1 - nx0 + 1;
-  const int64_t new_height = ny1 - ny0 + 1;
-  std::vector<float> log_odds(new_width * new_height, 0.0f);
-  std::vector<uint32_t> last_scan(new_width * new_height, 0);
-  for (int64_t row = 0; row < height_; ++row) {
-    const int64_t to = (row + min_iy_ - ny0) * new_width + (min_ix_ - nx0);
-    std::copy_n(log_odds_.begin() + row * width_, width_,
-                log_odds.begin() + to);
-    std::copy_n(last_scan_.begin() + row * width_, width_,
-                last_scan.begin() + to);
-  }
-  log_odds_.swap(log_odds);
-  last_scan_.swap(last_scan);
-  min_ix_ = nx0;
-  min_iy_ = ny0;
-  width_ = new_width;
-  height_ = new_height;
+  tiles_.swap(tiles);
+  tile_x0_ = nx0;
+  tile_y0_ = ny0;
+  tiles_w_ = new_w;
+  tiles_h_ = new_h;
   return true;
 }
 
@@ -216,17 +241,27 @@ bool OccupancyGrid::InsertScan(const Pose2& laser_pose, const LaserScan& scan) {
     y1 = std::max(y1, beam.y);
     beams.push_back(beam);
   }
-  if (!beams.empty() && !Grow(x0, y0, x1, y1)) return false;
+  if (!beams.empty() &&
+      !Reserve(TileIndex(x0), TileIndex(y0), TileIndex(x1), TileIndex(y1))) {
+    return false;
+  }
   ++scans_inserted_;
   if (beams.empty()) return true;
   const uint32_t stamp = ++scan_counter_;
   const auto update = [&](int64_t ix, int64_t iy, double delta) {
-    const int64_t o = Offset(ix, iy);
-    if (last_scan_[o] == stamp) return;  // Once per scan; hits first.
-    last_scan_[o] = stamp;
-    log_odds_[o] =
-        static_cast<float>(std::clamp(static_cast<double>(log_odds_[o]) + delta,
-                                      config_.l_min, config_.l_max));
+    const int64_t tx = TileIndex(ix), ty = TileIndex(iy);
+    std::unique_ptr<Tile>& tile =
+        tiles_[(ty - tile_y0_) * tiles_w_ + (tx - tile_x0_)];
+    if (tile == nullptr) {
+      tile = std::make_unique<Tile>();
+      ++allocated_tiles_;
+    }
+    const int64_t o = (iy - ty * kTileSide) * kTileSide + (ix - tx * kTileSide);
+    if (tile->last_scan[o] == stamp) return;  // Once per scan; hits first.
+    tile->last_scan[o] = stamp;
+    tile->log_odds[o] = static_cast<float>(
+        std::clamp(static_cast<double>(tile->log_odds[o]) + delta,
+                   config_.l_min, config_.l_max));
   };
   for (const Beam& beam : beams) {
     if (beam.hit) update(beam.x, beam.y, config_.l_occ);
@@ -239,58 +274,118 @@ bool OccupancyGrid::InsertScan(const Pose2& laser_pose, const LaserScan& scan) {
 }
 
 double OccupancyGrid::LogOdds(double x, double y) const {
-  const int64_t o = Offset(CellIndex(x), CellIndex(y));
-  return o < 0 ? 0.0 : log_odds_[o];
+  const int64_t ix = CellIndex(x), iy = CellIndex(y);
+  const Tile* tile = TileOf(ix, iy);
+  return tile == nullptr ? 0.0
+                         : tile->log_odds[InTile(iy) * kTileSide + InTile(ix)];
 }
 
 bool OccupancyGrid::Observed(double x, double y) const {
-  const int64_t o = Offset(CellIndex(x), CellIndex(y));
-  return o >= 0 && last_scan_[o] != 0;
+  const int64_t ix = CellIndex(x), iy = CellIndex(y);
+  const Tile* tile = TileOf(ix, iy);
+  return tile != nullptr &&
+         tile->last_scan[InTile(iy) * kTileSide + InTile(ix)] != 0;
 }
 
-CellState OccupancyGrid::StateOf(int64_t offset) const {
-  if (offset < 0 || last_scan_[offset] == 0) return CellState::kUnknown;
-  const double p = Probability(log_odds_[offset]);
+CellState OccupancyGrid::StateOf(double log_odds) const {
+  const double p = Probability(log_odds);
   if (p > config_.occupied_thresh) return CellState::kOccupied;
   if (p < config_.free_thresh) return CellState::kFree;
   return CellState::kUnknown;
 }
 
 CellState OccupancyGrid::State(double x, double y) const {
-  return StateOf(Offset(CellIndex(x), CellIndex(y)));
+  if (!Observed(x, y)) return CellState::kUnknown;
+  return StateOf(LogOdds(x, y));
 }
 
-MapImage OccupancyGrid::ToImage() const {
+int64_t OccupancyGrid::allocated_cells() const {
+  return allocated_tiles_ * kTileCells;
+}
+
+void OccupancyGrid::ObservedExtent(int64_t* cols, int64_t* rows) const {
+  Bounds b;
+  const bool any = ObservedBounds(&b);
+  *cols = any ? b.x1 - b.x0 + 1 : 0;
+  *rows = any ? b.y1 - b.y0 + 1 : 0;
+}
+
+bool OccupancyGrid::ObservedBounds(Bounds* bounds) const {
+  Bounds b{
+      std::numeric_limits<int64_t>::max(), std::numeric_limits<int64_t>::max(),
+      std::numeric_limits<int64_t>::min(), std::numeric_limits<int64_t>::min()};
+  ForEachObservedCell([&](int64_t ix, int64_t iy, float) {
+    b.x0 = std::min(b.x0, ix);
+    b.x1 = std::max(b.x1, ix);
+    b.y0 = std::min(b.y0, iy);
+    b.y1 = std::max(b.y1, iy);
+  });
+  if (b.x1 < b.x0) return false;
+  *bounds = b;
+  return true;
+}
+
+void OccupancyGrid::Render(const Bounds& bounds, int64_t k, int64_t width,
+                           int64_t height, uint8_t* pixels) const {
+  std::fill_n(pixels, width * height, kPixelUnknown);
+  ForEachObservedCell([&](int64_t ix, int64_t iy, float log_odds) {
+    const int64_t col = (ix - bounds.x0) / k;
+    const int64_t row = height - 1 - (iy - bounds.y0) / k;  // Top: largest y.
+    uint8_t& pixel = pixels[row * width + col];
+    pixel = MergeMapPixels(pixel, PixelOf(StateOf(log_odds)));
+  });
+}
+
+MapImage OccupancyGrid::ToImage(int max_side) const {
   MapImage image;
   image.resolution = config_.resolution;
-  int64_t c0 = width_, r0 = height_, c1 = -1, r1 = -1;
-  for (int64_t row = 0; row < height_; ++row) {
-    for (int64_t col = 0; col < width_; ++col) {
-      if (last_scan_[row * width_ + col] == 0) continue;
-      c0 = std::min(c0, col);
-      c1 = std::max(c1, col);
-      r0 = std::min(r0, row);
-      r1 = std::max(r1, row);
-    }
-  }
-  if (c1 < 0) return image;
-  image.width = static_cast<int>(c1 - c0 + 1);
-  image.height = static_cast<int>(r1 - r0 + 1);
-  image.origin_x = static_cast<double>(min_ix_ + c0) * config_.resolution;
-  image.origin_y = static_cast<double>(min_iy_ + r0) * config_.resolution;
+  Bounds b;
+  if (!ObservedBounds(&b)) return image;
+  const int64_t cols = b.x1 - b.x0 + 1, rows = b.y1 - b.y0 + 1;
+  const int64_t k = MergeFactor(cols, rows, max_side);
+  image.width = static_cast<int>((cols + k - 1) / k);
+  image.height = static_cast<int>((rows + k - 1) / k);
+  image.resolution = config_.resolution * static_cast<double>(k);
+  image.origin_x = static_cast<double>(b.x0) * config_.resolution;
+  image.origin_y = static_cast<double>(b.y0) * config_.resolution;
   image.pixels.resize(static_cast<size_t>(image.width) * image.height);
-  for (int r = 0; r < image.height; ++r) {
-    const int64_t row = r1 - r;  // Image row 0 is the largest y.
-    for (int c = 0; c < image.width; ++c) {
-      const CellState state = StateOf(row * width_ + c0 + c);
-      image.pixels[static_cast<size_t>(r) * image.width + c] =
-          state == CellState::kOccupied ? kPixelOccupied
-          : state == CellState::kFree   ? kPixelFree
-                                        : kPixelUnknown;
-    }
-  }
+  Render(b, k, image.width, image.height, image.pixels.data());
   return image;
 }
+
+namespace {
+
+// The map_server YAML of an image written as `pgm_path`.
+std::string MapYaml(const std::string& pgm_path, const std::string& yaml_path,
+                    double resolution, double origin_x, double origin_y,
+                    const OccupancyGridConfig& config) {
+  namespace fs = std::filesystem;
+  const fs::path pgm_file(pgm_path);
+  const fs::path yaml_file(yaml_path);
+  const std::string image_name = fs::absolute(pgm_file).parent_path() ==
+                                         fs::absolute(yaml_file).parent_path()
+                                     ? pgm_file.filename().string()
+                                     : fs::absolute(pgm_file).string();
+  std::string yaml = "image: " + image_name + "\nresolution: ";
+  text::AppendDouble(resolution, &yaml);
+  yaml += "\norigin: [";
+  text::AppendDouble(origin_x, &yaml);
+  yaml += ", ";
+  text::AppendDouble(origin_y, &yaml);
+  yaml += ", 0.0]\nnegate: 0\noccupied_thresh: ";
+  text::AppendDouble(config.occupied_thresh, &yaml);
+  yaml += "\nfree_thresh: ";
+  text::AppendDouble(config.free_thresh, &yaml);
+  yaml += "\n";
+  return yaml;
+}
+
+std::string PgmHeader(int64_t width, int64_t height) {
+  return "P5\n" + std::to_string(width) + " " + std::to_string(height) +
+         "\n255\n";
+}
+
+}  // namespace
 
 bool WriteMapPgmYaml(const std::string& pgm_path, const std::string& yaml_path,
                      const MapImage& image, const OccupancyGridConfig& config,
@@ -300,30 +395,35 @@ bool WriteMapPgmYaml(const std::string& pgm_path, const std::string& yaml_path,
     *error = pgm_path + ": empty map (no scan observed any cell)";
     return false;
   }
-  std::string pgm = "P5\n" + std::to_string(image.width) + " " +
-                    std::to_string(image.height) + "\n255\n";
+  std::string pgm = PgmHeader(image.width, image.height);
   pgm.append(reinterpret_cast<const char*>(image.pixels.data()),
              image.pixels.size());
-  namespace fs = std::filesystem;
-  const fs::path pgm_file(pgm_path);
-  const fs::path yaml_file(yaml_path);
-  const std::string image_name = fs::absolute(pgm_file).parent_path() ==
-                                         fs::absolute(yaml_file).parent_path()
-                                     ? pgm_file.filename().string()
-                                     : fs::absolute(pgm_file).string();
-  std::string yaml = "image: " + image_name + "\nresolution: ";
-  text::AppendDouble(image.resolution, &yaml);
-  yaml += "\norigin: [";
-  text::AppendDouble(image.origin_x, &yaml);
-  yaml += ", ";
-  text::AppendDouble(image.origin_y, &yaml);
-  yaml += ", 0.0]\nnegate: 0\noccupied_thresh: ";
-  text::AppendDouble(config.occupied_thresh, &yaml);
-  yaml += "\nfree_thresh: ";
-  text::AppendDouble(config.free_thresh, &yaml);
-  yaml += "\n";
   return WriteFileAtomically(pgm_path, pgm, error) &&
-         WriteFileAtomically(yaml_path, yaml, error);
+         WriteFileAtomically(yaml_path,
+                             MapYaml(pgm_path, yaml_path, image.resolution,
+                                     image.origin_x, image.origin_y, config),
+                             error);
+}
+
+bool WriteMapPgmYaml(const std::string& pgm_path, const std::string& yaml_path,
+                     const OccupancyGrid& grid, std::string* error) {
+  OccupancyGrid::Bounds b;
+  if (!grid.ObservedBounds(&b)) {
+    *error = pgm_path + ": empty map (no scan observed any cell)";
+    return false;
+  }
+  const int64_t width = b.x1 - b.x0 + 1, height = b.y1 - b.y0 + 1;
+  std::string pgm = PgmHeader(width, height);
+  const size_t header = pgm.size();
+  pgm.resize(header + static_cast<size_t>(width * height));
+  grid.Render(b, 1, width, height, reinterpret_cast<uint8_t*>(&pgm[header]));
+  const double res = grid.config().resolution;
+  return WriteFileAtomically(pgm_path, pgm, error) &&
+         WriteFileAtomically(
+             yaml_path,
+             MapYaml(pgm_path, yaml_path, res, static_cast<double>(b.x0) * res,
+                     static_cast<double>(b.y0) * res, grid.config()),
+             error);
 }
 
 bool ReadPgm(const std::string& path, MapImage* image, std::string* error) {

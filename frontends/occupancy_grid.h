@@ -3,8 +3,12 @@
 //
 // Cells are squares of `resolution` metres; cell (ix, iy) covers
 // [ix * res, (ix + 1) * res) x [iy * res, (iy + 1) * res) in the world frame,
-// so cell indices are global and the grid grows (by doubling) in any direction
-// as scans reach new cells.
+// so cell indices are global and the map extends in any direction as scans
+// reach new cells. Storage is tiled: square tiles of kTileSide x kTileSide
+// cells are allocated when a scan first touches one of their cells, so the
+// memory is proportional to the observed area (plus one pointer per tile of
+// the bounding box), not to the bounding box: a drifted trajectory that
+// spreads a few scans over a large area costs the cells those scans saw.
 //
 // InsertScan traces every usable beam from the laser position to its endpoint
 // with Bresenham's line over the cells. Within one scan a cell is updated at
@@ -24,7 +28,9 @@
 #ifndef SLAM_FRONTENDS_OCCUPANCY_GRID_H_
 #define SLAM_FRONTENDS_OCCUPANCY_GRID_H_
 
+#include <array>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -45,8 +51,9 @@ struct OccupancyGridConfig {
   // Thresholds on the occupancy probability, written into the YAML.
   double occupied_thresh = 0.65;
   double free_thresh = 0.196;
-  // Largest grid (cells, 8 bytes each): a scan that would make the grid
-  // larger (e.g. at a wildly wrong pose) is refused.
+  // Largest map extent (cells of the bounding box of the touched tiles; the
+  // full-resolution PGM has one byte per cell): a scan that would make the
+  // extent larger (e.g. at a wildly wrong pose) is refused.
   int64_t max_cells = 100000000;
 };
 
@@ -74,13 +81,25 @@ constexpr uint8_t kPixelOccupied = 0;
 constexpr uint8_t kPixelFree = 254;
 constexpr uint8_t kPixelUnknown = 205;
 
+// One pixel for several cells (a map drawn coarser than its cells):
+// occupied wins over free, free over unknown.
+inline uint8_t MergeMapPixels(uint8_t a, uint8_t b) {
+  if (a == kPixelOccupied || b == kPixelOccupied) return kPixelOccupied;
+  if (a == kPixelFree || b == kPixelFree) return kPixelFree;
+  return kPixelUnknown;
+}
+
 class OccupancyGrid {
  public:
+  // Side of a storage tile, in cells.
+  static constexpr int kTileSide = 64;
+
   explicit OccupancyGrid(const OccupancyGridConfig& config = {});
 
   // Adds one scan taken with the laser at `laser_pose` (world frame; for a
   // robot pose x: x * scan.laser_offset). False (and nothing changed) when
-  // the pose is not finite or the grid would exceed config.max_cells.
+  // the pose is not finite or the map extent would exceed config.max_cells.
+  // Each beam costs at most max_usable_range / resolution cell updates.
   bool InsertScan(const Pose2& laser_pose, const LaserScan& scan);
 
   // Cell index of a world point.
@@ -89,33 +108,85 @@ class OccupancyGrid {
   double LogOdds(double x, double y) const;
   CellState State(double x, double y) const;
   bool Observed(double x, double y) const;
+  // The state of an observed cell with these log-odds (the thresholds).
+  CellState StateOf(double log_odds) const;
+
+  // Calls visit(ix, iy, log_odds) for every observed cell (global indices),
+  // tile by tile; cost proportional to the allocated cells.
+  template <typename Visit>
+  void ForEachObservedCell(Visit visit) const;
 
   // The bounding box of the observed cells as a map image (empty image, 0 x
-  // 0, when nothing was observed).
-  MapImage ToImage() const;
+  // 0, when nothing was observed). max_side <= 0: one pixel per cell. Else
+  // k x k cells make one pixel, k the smallest integer that keeps both sides
+  // within max_side (resolution k times the cell size): occupied if any of
+  // its cells is, else free if any is, else unknown (MergeMapPixels;
+  // apps/plot/map_plot.h DownsampleMapImage does the same to an image). Cost:
+  // the pixels plus the allocated cells.
+  MapImage ToImage(int max_side = 0) const;
+
+  // Cells of the allocated tiles (memory: 8 bytes each).
+  int64_t allocated_cells() const;
+  // Columns and rows of the observed bounding box (0 x 0 when empty).
+  void ObservedExtent(int64_t* cols, int64_t* rows) const;
 
   const OccupancyGridConfig& config() const { return config_; }
   int scans_inserted() const { return scans_inserted_; }
 
  private:
-  // Makes cells [x0, x1] x [y0, y1] (global indices) part of the storage;
-  // false when that would take more than config.max_cells.
-  bool Grow(int64_t x0, int64_t y0, int64_t x1, int64_t y1);
-  // Storage index of a global cell, or -1 outside.
-  int64_t Offset(int64_t ix, int64_t iy) const;
-  CellState StateOf(int64_t offset) const;
+  static constexpr int kTileCells = kTileSide * kTileSide;
+  struct Tile {
+    std::array<float, kTileCells> log_odds{};
+    // Number of the last scan that updated the cell (0: never observed).
+    std::array<uint32_t, kTileCells> last_scan{};
+  };
+  // Inclusive bounds of observed cells (global indices); false when none.
+  struct Bounds {
+    int64_t x0, y0, x1, y1;
+  };
+  bool ObservedBounds(Bounds* bounds) const;
+  // Renders the observed bounding box with k x k cells per pixel into
+  // `pixels` (rows of `width` bytes, top row first).
+  void Render(const Bounds& bounds, int64_t k, int64_t width, int64_t height,
+              uint8_t* pixels) const;
+  // Makes tiles [tx0, tx1] x [ty0, ty1] addressable in the directory; false
+  // when the extent would exceed config.max_cells.
+  bool Reserve(int64_t tx0, int64_t ty0, int64_t tx1, int64_t ty1);
+  // The tile holding a cell, or nullptr (not allocated or outside).
+  const Tile* TileOf(int64_t ix, int64_t iy) const;
+
+  friend bool WriteMapPgmYaml(const std::string&, const std::string&,
+                              const OccupancyGrid&, std::string*);
 
   OccupancyGridConfig config_;
-  int64_t min_ix_ = 0;  // Global index of storage column 0.
-  int64_t min_iy_ = 0;
-  int64_t width_ = 0;
-  int64_t height_ = 0;
-  std::vector<float> log_odds_;
-  // Number of the last scan that updated the cell (0: never observed).
-  std::vector<uint32_t> last_scan_;
+  // Tile directory: tiles [tile_x0_, tile_x0_ + tiles_w_) x [tile_y0_, ...),
+  // row-major, nullptr where no cell was touched.
+  int64_t tile_x0_ = 0;
+  int64_t tile_y0_ = 0;
+  int64_t tiles_w_ = 0;
+  int64_t tiles_h_ = 0;
+  std::vector<std::unique_ptr<Tile>> tiles_;
+  int64_t allocated_tiles_ = 0;
+  // Extent: the tiles any accepted scan reached (inclusive; empty when
+  // extent_x0_ > extent_x1_).
+  int64_t extent_x0_ = 0, extent_y0_ = 0, extent_x1_ = -1, extent_y1_ = -1;
   uint32_t scan_counter_ = 0;
   int scans_inserted_ = 0;
 };
+
+template <typename Visit>
+void OccupancyGrid::ForEachObservedCell(Visit visit) const {
+  for (int64_t t = 0; t < static_cast<int64_t>(tiles_.size()); ++t) {
+    const Tile* tile = tiles_[t].get();
+    if (tile == nullptr) continue;
+    const int64_t bx = (tile_x0_ + t % tiles_w_) * kTileSide;
+    const int64_t by = (tile_y0_ + t / tiles_w_) * kTileSide;
+    for (int i = 0; i < kTileCells; ++i) {
+      if (tile->last_scan[i] == 0) continue;
+      visit(bx + i % kTileSide, by + i / kTileSide, tile->log_odds[i]);
+    }
+  }
+}
 
 // Writes `image` as a binary PGM (P5, maxval 255) and the YAML that
 // map_server reads (image: the PGM's file name, relative to the YAML when in
@@ -124,6 +195,11 @@ class OccupancyGrid {
 bool WriteMapPgmYaml(const std::string& pgm_path, const std::string& yaml_path,
                      const MapImage& image, const OccupancyGridConfig& config,
                      std::string* error);
+// The same for the full-resolution image of `grid`, rendered straight into
+// the file's bytes (no image in between: peak memory one byte per cell of
+// the bounding box).
+bool WriteMapPgmYaml(const std::string& pgm_path, const std::string& yaml_path,
+                     const OccupancyGrid& grid, std::string* error);
 
 // Reads a binary PGM (P5, maxval <= 255, '#' comments in the header) into
 // image->pixels, width and height (resolution and origin untouched).

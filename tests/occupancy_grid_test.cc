@@ -1,16 +1,19 @@
 // Occupancy grid: exact log-odds updates of single beams, clamping, growth,
 // a synthetic room scanned from known poses (walls occupied, interior free,
 // outside unknown, the no-return rule through a door), the PGM + YAML output
-// read back, and the map PNG of the plot module.
+// read back, the map PNG of the plot module, and costs that follow the
+// observed cells (tiled storage, merged pictures) rather than the extent.
 #include "frontends/occupancy_grid.h"
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
 #include <vector>
 
+#include "apps/map_png.h"
 #include "apps/plot/map_plot.h"
 #include "gtest/gtest.h"
 #include "tests/test_util.h"
@@ -176,9 +179,9 @@ TEST(OccupancyGrid, BeamRules) {
 
 TEST(OccupancyGrid, RefusesBadPosesAndHugeGrids) {
   OccupancyGridConfig config;
-  // The first scan makes a grid of 149 x 129 cells (cells -64 .. 84 by -64 ..
-  // 64: the beam's cells 0 .. 20 and a margin of 64).
-  config.max_cells = 155000;
+  // An extent of at most 20 tiles (of 64 x 64 cells at 0.05 m, 3.2 m).
+  constexpr int64_t kTile = OccupancyGrid::kTileSide;
+  config.max_cells = 20 * kTile * kTile;
   OccupancyGrid grid(config);
   EXPECT_TRUE(grid.InsertScan(Pose2(0.025, 0.025, 0.0), OneBeam(1.0)));
   const MapImage before = grid.ToImage();
@@ -187,16 +190,109 @@ TEST(OccupancyGrid, RefusesBadPosesAndHugeGrids) {
   EXPECT_FALSE(grid.InsertScan(
       Pose2(std::numeric_limits<double>::quiet_NaN(), 0.0, 0.0), OneBeam(1.0)));
   EXPECT_FALSE(grid.InsertScan(Pose2(1e300, 0.0, 0.0), OneBeam(1.0)));
+  // A hit in cell 1280 (tile 20): tiles 0 .. 20 are 21 tiles, one too many.
+  EXPECT_FALSE(grid.InsertScan(Pose2(63.001, 0.001, 0.0), OneBeam(1.0)));
   EXPECT_EQ(grid.scans_inserted(), 1);
   const MapImage after = grid.ToImage();
   EXPECT_EQ(after.pixels, before.pixels);
   EXPECT_EQ(after.origin_x, before.origin_x);
-  // A hit in cell 1100: with the growth margins 1229 x 129 = 158541 cells do
-  // not fit, without them 1165 x 129 = 150285 do.
-  EXPECT_TRUE(grid.InsertScan(Pose2(54.001, 0.001, 0.0), OneBeam(1.0)));
-  EXPECT_FLOAT_EQ(grid.LogOdds(55.001, 0.001), config.l_occ);
+  // A hit in cell 1279 (tile 19, the beam from cell 1259): 20 tiles fit.
+  EXPECT_TRUE(grid.InsertScan(Pose2(62.951, 0.001, 0.0), OneBeam(1.0)));
+  EXPECT_FLOAT_EQ(grid.LogOdds(63.951, 0.001), config.l_occ);
   EXPECT_FLOAT_EQ(grid.LogOdds(1.025, 0.025), config.l_occ);
   EXPECT_EQ(grid.scans_inserted(), 2);
+}
+
+// A drifted trajectory: a few scans spread over a large area. The memory of
+// the grid follows the cells the scans saw, not their bounding box, and the
+// picture of the map stays within the side it is asked for.
+TEST(OccupancyGrid, CostFollowsObservedCellsNotExtent) {
+  const Room room;
+  OccupancyGrid grid{OccupancyGridConfig{}};
+  const LaserScan scan = room.Scan(Pose2(0.0, 0.0, 0.0), 720);
+  // The room seen from three places up to 400 m apart: 8000 x 4000 cells
+  // (within the default max_cells, 1e8).
+  const std::vector<Pose2> places = {
+      Pose2(0.0, 0.0, 0.0), Pose2(400.0, 0.0, 0.0), Pose2(200.0, 200.0, 0.0)};
+  for (const Pose2& place : places) ASSERT_TRUE(grid.InsertScan(place, scan));
+  int64_t observed = 0;
+  grid.ForEachObservedCell([&](int64_t, int64_t, float) { ++observed; });
+  int64_t cols = 0, rows = 0;
+  grid.ObservedExtent(&cols, &rows);
+  EXPECT_GT(cols, 8000);
+  EXPECT_GT(rows, 4000);
+  // Each scan sees the room and the wedge through the door (to 20 m): a few
+  // tiles each (62706 cells seen, 61 tiles of 4096), however far apart the
+  // places are; a dense grid over the box would take 35.8 million cells.
+  EXPECT_GT(observed, 3 * 20000);
+  EXPECT_LE(grid.allocated_cells(), 8 * observed);
+  EXPECT_LT(grid.allocated_cells(), cols * rows / 100);
+
+  const MapImage picture = grid.ToImage(4096);
+  EXPECT_LE(picture.width, 4096);
+  EXPECT_LE(picture.height, 4096);
+  EXPECT_GT(picture.width, 2048);  // No coarser than needed.
+  const int64_t k = (cols + 4095) / 4096;
+  EXPECT_DOUBLE_EQ(picture.resolution, k * grid.config().resolution);
+  // A wall cell of every place is an occupied pixel.
+  for (const Pose2& place : places) {
+    const double x = place.t.x() + room.x0 + 0.01;
+    const double y = place.t.y() + 0.5 * (room.y0 + room.y1);
+    ASSERT_EQ(grid.State(x, y), CellState::kOccupied);
+    const int col =
+        static_cast<int>((x - picture.origin_x) / picture.resolution);
+    const int row =
+        picture.height - 1 -
+        static_cast<int>((y - picture.origin_y) / picture.resolution);
+    EXPECT_EQ(picture.at(row, col), kPixelOccupied);
+  }
+}
+
+// The merged picture follows its rule exactly: a pixel is occupied if any of
+// its k x k cells is, else free if any is, else unknown; blocks are counted
+// from the origin (lower-left). The same rule on an image (the plot module's
+// DownsampleMapImage) gives the same picture.
+TEST(OccupancyGrid, MergedPictureRule) {
+  const Room room;
+  const OccupancyGrid grid = BuildRoom(room, OccupancyGridConfig{});
+  const MapImage full = grid.ToImage();
+  for (const int max_side : {1000, 100, 37, 10}) {
+    const MapImage merged = grid.ToImage(max_side);
+    const int k = (std::max(full.width, full.height) + max_side - 1) / max_side;
+    ASSERT_EQ(merged.width, (full.width + k - 1) / k) << max_side;
+    ASSERT_EQ(merged.height, (full.height + k - 1) / k) << max_side;
+    EXPECT_EQ(merged.origin_x, full.origin_x);
+    EXPECT_EQ(merged.origin_y, full.origin_y);
+    EXPECT_DOUBLE_EQ(merged.resolution, k * full.resolution);
+    for (int r = 0; r < merged.height; ++r) {
+      for (int c = 0; c < merged.width; ++c) {
+        bool occupied = false, free = false;
+        // Block rows counted from the bottom of the full image.
+        for (int br = 0; br < k; ++br) {
+          const int from_bottom = (merged.height - 1 - r) * k + br;
+          const int fr = full.height - 1 - from_bottom;
+          if (fr < 0) continue;
+          for (int bc = 0; bc < k && c * k + bc < full.width; ++bc) {
+            const uint8_t p = full.at(fr, c * k + bc);
+            occupied |= p == kPixelOccupied;
+            free |= p == kPixelFree;
+          }
+        }
+        const uint8_t want = occupied ? kPixelOccupied
+                             : free   ? kPixelFree
+                                      : kPixelUnknown;
+        ASSERT_EQ(merged.at(r, c), want) << max_side << " " << r << " " << c;
+      }
+    }
+    const MapImage again = DownsampleMapImage(full, max_side);
+    EXPECT_EQ(again.pixels, merged.pixels) << max_side;
+    EXPECT_EQ(again.width, merged.width);
+    EXPECT_DOUBLE_EQ(again.resolution, merged.resolution);
+  }
+  // Fits already: unchanged.
+  EXPECT_EQ(grid.ToImage(full.width + full.height).pixels, full.pixels);
+  EXPECT_EQ(DownsampleMapImage(full, full.width + full.height).pixels,
+            full.pixels);
 }
 
 TEST(OccupancyGrid, ConfigChecks) {
@@ -386,6 +482,31 @@ TEST(OccupancyGrid, MapPngWithTrajectory) {
   std::string error;
   ASSERT_TRUE(WriteMapPngImpl(path, image, trajectory, &error)) << error;
   EXPECT_GT(testing::ReadText(path).size(), 100u);
+}
+
+// A map image larger than the picture's bound (e.g. from a drifted run) is
+// drawn merged down to kMapPngMaxSide pixels on its long side.
+TEST(OccupancyGrid, MapPngSizeBounded) {
+  MapImage image;
+  image.width = 3 * kMapPngMaxSide + 5;
+  image.height = 7;
+  image.resolution = 0.05;
+  image.pixels.assign(static_cast<size_t>(image.width) * image.height,
+                      kPixelFree);
+  const std::string path = TempDir() + "/wide.png";
+  std::string error;
+  ASSERT_TRUE(WriteMapPngImpl(path, image, {}, &error)) << error;
+  const std::string png = testing::ReadText(path);
+  ASSERT_GT(png.size(), 24u);
+  // IHDR: width and height, big-endian, at bytes 16 and 20.
+  const auto u32 = [&](size_t at) {
+    return (static_cast<uint32_t>(static_cast<uint8_t>(png[at])) << 24) |
+           (static_cast<uint32_t>(static_cast<uint8_t>(png[at + 1])) << 16) |
+           (static_cast<uint32_t>(static_cast<uint8_t>(png[at + 2])) << 8) |
+           static_cast<uint32_t>(static_cast<uint8_t>(png[at + 3]));
+  };
+  EXPECT_EQ(u32(16), static_cast<uint32_t>((image.width + 3) / 4));
+  EXPECT_EQ(u32(20), 2u);
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
+#include "apps/map_png.h"
 #include "apps/plot/plot.h"
 
 namespace slam {
@@ -13,6 +14,30 @@ namespace {
 constexpr int kShift = 4;
 
 }  // namespace
+
+MapImage DownsampleMapImage(const MapImage& image, int max_side) {
+  const int64_t longest = std::max(image.width, image.height);
+  if (max_side <= 0 || longest <= max_side) return image;
+  const int64_t k = (longest + max_side - 1) / max_side;
+  MapImage out;
+  out.width = static_cast<int>((image.width + k - 1) / k);
+  out.height = static_cast<int>((image.height + k - 1) / k);
+  out.resolution = image.resolution * static_cast<double>(k);
+  out.origin_x = image.origin_x;
+  out.origin_y = image.origin_y;
+  out.pixels.assign(static_cast<size_t>(out.width) * out.height, kPixelUnknown);
+  // Rows are counted from the top but blocks from the bottom (the origin),
+  // as ToImage merges them.
+  for (int64_t r = 0; r < image.height; ++r) {
+    const int64_t out_row = out.height - 1 - (image.height - 1 - r) / k;
+    const uint8_t* in = &image.pixels[static_cast<size_t>(r) * image.width];
+    uint8_t* row = &out.pixels[static_cast<size_t>(out_row) * out.width];
+    for (int64_t c = 0; c < image.width; ++c) {
+      row[c / k] = MergeMapPixels(row[c / k], in[c]);
+    }
+  }
+  return out;
+}
 
 cv::Mat RenderMapImage(const MapImage& image,
                        const std::vector<Eigen::Vector2d>& trajectory,
@@ -53,8 +78,9 @@ bool WriteMapPngImpl(const std::string& path, const MapImage& image,
     *error = path + ": empty map (no scan observed any cell)";
     return false;
   }
-  const int scale = std::max(1, 800 / std::max(image.width, image.height));
-  return plot::SavePng(path, RenderMapImage(image, trajectory, scale), error);
+  const MapImage fitted = DownsampleMapImage(image, kMapPngMaxSide);
+  const int scale = std::max(1, 800 / std::max(fitted.width, fitted.height));
+  return plot::SavePng(path, RenderMapImage(fitted, trajectory, scale), error);
 }
 
 }  // namespace slam

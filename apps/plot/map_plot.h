@@ -21,7 +21,14 @@ cv::Mat RenderMapImage(const MapImage& image,
                        const std::vector<Eigen::Vector2d>& trajectory,
                        int scale);
 
-// Renders (scaled up to about 800 pixels for small maps) and writes a PNG
+// `image` with k x k pixels merged into one (MergeMapPixels; k the smallest
+// integer that keeps both sides within max_side; the resolution k times
+// coarser, the same origin, blocks counted from the origin); `image` itself
+// when it fits.
+MapImage DownsampleMapImage(const MapImage& image, int max_side);
+
+// Renders (scaled up to about 800 pixels for small maps, merged down to
+// kMapPngMaxSide for large ones, apps/map_png.h) and writes a PNG
 // atomically; false with "PATH: problem".
 bool WriteMapPngImpl(const std::string& path, const MapImage& image,
                      const std::vector<Eigen::Vector2d>& trajectory,
