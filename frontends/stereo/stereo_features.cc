@@ -37,6 +37,20 @@ int PatchSad(const cv::Mat& left, const cv::Mat& right, int ul, int ur, int v,
   return sad;
 }
 
+// The full-image position of an ORB keypoint (see DetectAndDescribe).
+cv::Point2f LevelToImage(const cv::KeyPoint& k, const cv::Size& size,
+                         double scale_factor) {
+  if (k.octave <= 0) return k.pt;
+  // The level's scale and size as OpenCV's ORB computes them (float).
+  const float scale = static_cast<float>(std::pow(scale_factor, k.octave));
+  const int width = cvRound(size.width / scale);
+  const int height = cvRound(size.height / scale);
+  const double x = k.pt.x / scale, y = k.pt.y / scale;
+  return cv::Point2f(
+      static_cast<float>((x + 0.5) * size.width / width - 0.5),
+      static_cast<float>((y + 0.5) * size.height / height - 0.5));
+}
+
 }  // namespace
 
 bool ValidateStereoFeatureConfig(const StereoFeatureConfig& c,
@@ -108,18 +122,19 @@ void StereoFeatureExtractor::DetectAndDescribe(
   for (size_t k = 0; k < kept.size(); ++k) {
     keypoints->push_back(all[kept[k]]);
     // OpenCV's ORB reports a corner found at (x, y) of pyramid level L as
-    // (x s^L, y s^L); the centre of that level's pixel x lies at
-    // (x + 0.5) s^L - 0.5 in the full image (area-preserving resize), so
-    // the reported position is off by 0.5 (s^L - 1) in both axes: up to 1.3
-    // pixels at level 7. Uncorrected, the offset changes as a point moves
-    // through the octaves, which shows as rotation drift (KITTI 06 excerpt:
-    // APE 0.35 -> 0.31 m with the correction).
-    cv::KeyPoint& kp = keypoints->back();
-    const float offset =
-        0.5f *
-        (std::pow(static_cast<float>(config_.scale_factor), kp.octave) - 1.0f);
-    kp.pt.x += offset;
-    kp.pt.y += offset;
+    // (x s^L, y s^L). Level L is the image resized to W_L = round(W / s^L)
+    // by H_L = round(H / s^L) pixels (each level from the one before; their
+    // pixel-centre mappings compose), so that level's pixel centre x lies
+    // at (x + 0.5) W / W_L - 0.5 in the full image, and y at
+    // (y + 0.5) H / H_L - 0.5. Against the reported position that is a
+    // half-pixel offset, 0.5 (s^L - 1) (up to 1.3 px at level 7), and a
+    // scale error from the rounded level sizes of up to 1 % per level and
+    // axis (613 x 185 images: up to 0.9 px in u and 1.3 px in v).
+    // Uncorrected, both change as a point moves through the octaves
+    // (tests/stereo_features_test.cc measures them on an image moved by
+    // whole pixels).
+    keypoints->back().pt =
+        LevelToImage(keypoints->back(), image.size(), config_.scale_factor);
     all_descriptors.row(kept[k]).copyTo(descriptors->row(static_cast<int>(k)));
   }
 }
