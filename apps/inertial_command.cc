@@ -42,6 +42,7 @@
 #include "datasets/imu_io.h"
 #include "datasets/trajectory_io.h"
 #include "frontends/inertial/inertial_estimator.h"
+#include "frontends/inertial/inertial_initializer.h"
 
 DECLARE_string(i);
 DECLARE_string(o);
@@ -49,6 +50,10 @@ DECLARE_string(o);
 DEFINE_string(estimator, "both", "inertial: window | batch | both");
 DEFINE_int32(window_size, 10, "inertial: keyframes in the sliding window");
 DEFINE_double(keyframe_rate, 10.0, "inertial: keyframe rate [Hz]");
+DEFINE_bool(dead_reckoning, false,
+            "inertial: run on input without position fixes (IMU alone: "
+            "position and heading drift without bound); without it such "
+            "input is refused");
 
 namespace slam {
 namespace {
@@ -121,6 +126,9 @@ bool StartAtGroundTruth(InertialData* data, std::string* error) {
     return false;
   }
   data->imu.erase(data->imu.begin(), data->imu.begin() + s);
+  if (data->imu_lines.size() >= s) {
+    data->imu_lines.erase(data->imu_lines.begin(), data->imu_lines.begin() + s);
+  }
   // The ground-truth state at (or just before) the first kept reading.
   const InertialGroundTruth* start = &first;
   for (const InertialGroundTruth& g : data->ground_truth) {
@@ -131,6 +139,43 @@ bool StartAtGroundTruth(InertialData* data, std::string* error) {
   data->initial_state.pose = start->pose;
   data->initial_state.velocity = start->velocity;
   return true;
+}
+
+// Prints the initializer's summary (stdout) and, when the heading never
+// became observable, a warning (stderr); the report's "initialization".
+JsonObject InitializationJson(const InertialRun& run,
+                              const std::vector<std::string>& warnings,
+                              bool dead_reckoning) {
+  JsonObject json;
+  json.Add("yaw_observable", run.yaw_observable)
+      .Add("yaw_observable_after_s", run.yaw_observable_after_seconds)
+      .Add("filter_keyframes_yaw_unknown", run.filter_yaw_unknown)
+      .Add("dead_reckoning", dead_reckoning)
+      .Add("summary", run.initialization_summary);
+  std::string list = "[";
+  for (size_t i = 0; i < warnings.size(); ++i) {
+    list += (i > 0 ? ", " : "") + JsonQuote(warnings[i]);
+  }
+  json.AddRaw("warnings", list + "]");
+  return json;
+}
+
+void PrintInitialization(const InertialRun& run) {
+  if (!run.initialization_summary.empty()) {
+    std::printf("%s\n", run.initialization_summary.c_str());
+  }
+  if (!run.yaw_observable) {
+    std::fflush(stdout);
+    std::cerr << "slam inertial: warning: the heading (yaw) never became "
+                 "observable (no horizontal acceleration seen with the "
+                 "fixes): every estimate's yaw is arbitrary\n";
+  } else if (run.filter_yaw_unknown > 0) {
+    std::printf(
+        "window_filter: the first %zu real-time estimates (%.2f s) have no "
+        "yaw information (heading arbitrary); then the window restarts from "
+        "the aligned state\n",
+        run.filter_yaw_unknown, run.yaw_observable_after_seconds);
+  }
 }
 
 struct Estimate {
@@ -189,6 +234,23 @@ int RunInertialCommand(const std::vector<std::string>& args) {
       config.options.gravity.x(), config.options.gravity.y(),
       config.options.gravity.z(), data.has_initial_state ? "with" : "without");
 
+  // What the data cannot determine (inertial_initializer.h).
+  if (data.positions.empty() && !FLAGS_dead_reckoning) {
+    std::cerr << "slam inertial: " << FLAGS_i
+              << ": no position fixes: the IMU alone cannot determine the "
+                 "position or the heading, and its dead reckoning drifts "
+                 "without bound (kilometres within a minute for a MEMS IMU); "
+                 "add fixes, or pass --dead_reckoning to run anyway\n";
+    return 1;
+  }
+  const std::vector<std::string> warnings = InertialDataWarnings(data);
+  if (data.positions.empty()) {
+    std::cerr << "slam inertial: warning: dead reckoning (no position "
+                 "fixes): the estimates drift without bound\n";
+  }
+  for (const std::string& w : warnings) {
+    std::cerr << "slam inertial: warning: " << w << "\n";
+  }
   const bool run_window = config.estimator != "batch";
   const bool run_batch = config.estimator != "window";
   InertialRun window, batch;
@@ -201,6 +263,7 @@ int RunInertialCommand(const std::vector<std::string>& args) {
       std::cerr << "slam inertial: " << FLAGS_i << ": " << error << "\n";
       return 1;
     }
+    PrintInitialization(window);
     estimates.push_back({"window", ToTrajectory(window.smoothed)});
     estimates.push_back({"window_filter", ToTrajectory(window.filter)});
     files.emplace_back("window_states.csv", StatesCsv(window.smoothed));
@@ -221,6 +284,7 @@ int RunInertialCommand(const std::vector<std::string>& args) {
       std::cerr << "slam inertial: " << FLAGS_i << ": " << error << "\n";
       return 1;
     }
+    if (!run_window) PrintInitialization(batch);
     estimates.push_back({"batch", ToTrajectory(batch.smoothed)});
     files.emplace_back("batch_states.csv", StatesCsv(batch.smoothed));
     JsonObject timing;
@@ -228,6 +292,10 @@ int RunInertialCommand(const std::vector<std::string>& args) {
         .Add("total_s", batch.total_seconds);
     report.Add("batch", timing);
   }
+
+  report.Add("initialization",
+             InitializationJson(run_window ? window : batch, warnings,
+                                data.positions.empty()));
 
   if (evaluate) {
     EvalSettings settings;
