@@ -4,7 +4,7 @@
 //
 //   slam inertial -i INPUT -o DIR [--config FILE] [--estimator both]
 //                 [--window_size 10] [--keyframe_rate 10] [--gt FILE|input]
-//                 [--report FILE.json] [--plot DIR]
+//                 [--report FILE.json] [--plot DIR] [--dead_reckoning]
 //
 // INPUT: an EuRoC-format folder (holding mav0/imu0/data.csv, optional
 // leica0 fixes and state_groundtruth_estimate0) or a GTSAM IMU+GPS CSV
@@ -20,6 +20,12 @@
 //       gyro then accel bias)
 // --gt FILE evaluates each estimate against a reference trajectory (any
 // format of `slam eval`), --gt input against the input's ground truth.
+// Without an initial state in the input the initializer
+// (frontends/inertial/inertial_initializer.h) starts both estimators and
+// prints when the yaw became observable (report: "initialization").
+// Input without position fixes is refused (exit 1) unless
+// --dead_reckoning; fix-free stretches over 10 s and IMU gaps are warned
+// about on stderr and listed in the report.
 // Settings: defaults < --config FILE (`inertial:` section, see
 // apps/inertial_config.h) < explicit flags; --dump_config prints them.
 #include <gflags/gflags.h>
@@ -198,7 +204,7 @@ int RunInertialCommand(const std::vector<std::string>& args) {
   }
   if (FLAGS_i.empty() || FLAGS_o.empty() || !args.empty()) {
     std::cerr << "usage: slam inertial -i INPUT -o DIR [--config FILE] "
-                 "[--gt FILE|input]\n";
+                 "[--gt FILE|input] [--dead_reckoning]\n";
     return 2;
   }
   InertialData data;

@@ -23,12 +23,12 @@
 //     prior_accel_bias_sigma: 0.1  # m/s^2
 //
 // initial_state: auto uses the input's initial state when it has one (the
-// GTSAM "i" row), else a static start (frontends/inertial/
-// inertial_estimator.h); ground_truth starts at the first ground-truth state
-// of an EuRoC folder (IMU readings before it are dropped) with the prior
-// sigmas below, as EuRoC evaluations commonly do.
-// For the GTSAM example file use gyro/accel densities 2.05689e-4 / 3.924e-4,
-// random walks 1.454441e-6 / 4.905e-3, position_sigma 1.0, and a wide
+// GTSAM "i" row), else the initializer's (still start and in-motion
+// alignment, frontends/inertial/inertial_initializer.h); ground_truth starts at
+// the first ground-truth state of an EuRoC folder (IMU readings before it are
+// dropped) with the prior sigmas below, as EuRoC evaluations commonly do. For
+// the GTSAM example file use gyro/accel densities 2.05689e-4 / 3.924e-4, random
+// walks 1.454441e-6 / 4.905e-3, position_sigma 1.0, and a wide
 // prior_velocity_sigma (its initial velocity row is not consistent with the
 // data, see datasets/imu_io.h); configs/inertial_gtsam.yaml holds them.
 #ifndef SLAM_APPS_INERTIAL_CONFIG_H_

@@ -334,6 +334,7 @@ TEST(InertialInitializerTest, SparseFixesAndImuGapsAreReported) {
                                 "ms"))
       << log;
   EXPECT_TRUE(Contains(log, "warning: fixes too sparse: 19.0 s")) << log;
+  EXPECT_TRUE(Contains(log, "initializer: ")) << log;
 }
 
 }  // namespace
