@@ -133,7 +133,7 @@ struct Alignment {
     double yaw = 0.0, yaw_sigma = M_PI;
     Eigen::Vector2d tilt_error = Eigen::Vector2d::Zero();  // e (see above)
     Eigen::Vector3d p0 = Eigen::Vector3d::Zero(), v0 = Eigen::Vector3d::Zero();
-    double position_sigma = 1.0, velocity_sigma = 1.0;
+    double position_sigma = 1.0, velocity_sigma = 1.0, tilt_sigma = 1.0;
     bool ok = false;
   };
   Result Solve() const {
@@ -167,6 +167,7 @@ struct Alignment {
         std::sqrt(scale * std::max({cov(0, 0), cov(1, 1), cov_z(0, 0)}));
     r.velocity_sigma =
         std::sqrt(scale * std::max({cov(2, 2), cov(3, 3), cov_z(1, 1)}));
+    r.tilt_sigma = std::sqrt(scale * std::max(cov(6, 6), cov(7, 7)));
     r.ok = std::isfinite(r.yaw_sigma) && r.tilt_error.norm() < 0.5;
     return r;
   }
@@ -270,7 +271,9 @@ bool InitializeInertial(const InertialData& data,
       // omega with omega x (u_z z) = u_z (e_x, e_y, 0).
       const Eigen::Vector3d omega(-r.tilt_error.y(), r.tilt_error.x(), 0.0);
       r_yaw = QuaternionExp<double>(omega).toRotationMatrix() * r_yaw;
-      init->tilt_sigma = std::max(r.yaw_sigma, 1e-3);
+      // e also holds any horizontal accelerometer bias (0.1 m/s^2 is
+      // 0.01 rad): a floor.
+      init->tilt_sigma = std::max(2.0 * r.tilt_sigma, 0.01);
     }
     const Eigen::Matrix3d r0 = level.transpose() * r_yaw * r_level;
     init->state.state.pose =
