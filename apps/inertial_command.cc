@@ -4,7 +4,7 @@
 //
 //   slam inertial -i INPUT -o DIR [--config FILE] [--estimator both]
 //                 [--window_size 10] [--keyframe_rate 10] [--gt FILE|input]
-//                 [--report FILE.json] [--plot DIR]
+//                 [--report FILE.json] [--plot DIR] [--dead_reckoning]
 //
 // INPUT: an EuRoC-format folder (holding mav0/imu0/data.csv, optional
 // leica0 fixes and state_groundtruth_estimate0) or a GTSAM IMU+GPS CSV
@@ -31,6 +31,12 @@
 // the first 10 s (frontends/inertial/inertial_consistency.h), raw and after a
 // yaw-only alignment of the reference rotation, in the report under
 // evaluation.window_filter.nees and evaluation.window.nees.
+// Without an initial state in the input the initializer
+// (frontends/inertial/inertial_initializer.h) starts both estimators and
+// prints when the yaw became observable (report: "initialization").
+// Input without position fixes is refused (exit 1) unless
+// --dead_reckoning; fix-free stretches over 10 s and IMU gaps are warned
+// about on stderr and listed in the report.
 // Settings: defaults < --config FILE (`inertial:` section, see
 // apps/inertial_config.h) < explicit flags; --dump_config prints them.
 #include <gflags/gflags.h>
@@ -54,6 +60,7 @@
 #include "datasets/imu_io.h"
 #include "datasets/trajectory_io.h"
 #include "frontends/inertial/inertial_estimator.h"
+#include "frontends/inertial/inertial_initializer.h"
 
 DECLARE_string(i);
 DECLARE_string(o);
@@ -61,6 +68,10 @@ DECLARE_string(o);
 DEFINE_string(estimator, "both", "inertial: window | batch | both");
 DEFINE_int32(window_size, 10, "inertial: keyframes in the sliding window");
 DEFINE_double(keyframe_rate, 10.0, "inertial: keyframe rate [Hz]");
+DEFINE_bool(dead_reckoning, false,
+            "inertial: run on input without position fixes (IMU alone: "
+            "position and heading drift without bound); without it such "
+            "input is refused");
 
 namespace slam {
 namespace {
@@ -134,6 +145,9 @@ bool StartAtGroundTruth(InertialData* data, ImuBias* bias, std::string* error) {
     return false;
   }
   data->imu.erase(data->imu.begin(), data->imu.begin() + s);
+  if (data->imu_lines.size() >= s) {
+    data->imu_lines.erase(data->imu_lines.begin(), data->imu_lines.begin() + s);
+  }
   // The ground-truth state at (or just before) the first kept reading.
   const InertialGroundTruth* start = &first;
   for (const InertialGroundTruth& g : data->ground_truth) {
@@ -145,6 +159,43 @@ bool StartAtGroundTruth(InertialData* data, ImuBias* bias, std::string* error) {
   data->initial_state.velocity = start->velocity;
   *bias = start->bias;
   return true;
+}
+
+// Prints the initializer's summary (stdout) and, when the heading never
+// became observable, a warning (stderr); the report's "initialization".
+JsonObject InitializationJson(const InertialRun& run,
+                              const std::vector<std::string>& warnings,
+                              bool dead_reckoning) {
+  JsonObject json;
+  json.Add("yaw_observable", run.yaw_observable)
+      .Add("yaw_observable_after_s", run.yaw_observable_after_seconds)
+      .Add("filter_keyframes_yaw_unknown", run.filter_yaw_unknown)
+      .Add("dead_reckoning", dead_reckoning)
+      .Add("summary", run.initialization_summary);
+  std::string list = "[";
+  for (size_t i = 0; i < warnings.size(); ++i) {
+    list += (i > 0 ? ", " : "") + JsonQuote(warnings[i]);
+  }
+  json.AddRaw("warnings", list + "]");
+  return json;
+}
+
+void PrintInitialization(const InertialRun& run) {
+  if (!run.initialization_summary.empty()) {
+    std::printf("%s\n", run.initialization_summary.c_str());
+  }
+  if (!run.yaw_observable) {
+    std::fflush(stdout);
+    std::cerr << "slam inertial: warning: the heading (yaw) never became "
+                 "observable (no horizontal acceleration seen with the "
+                 "fixes): every estimate's yaw is arbitrary\n";
+  } else if (run.filter_yaw_unknown > 0) {
+    std::printf(
+        "window_filter: the first %zu real-time estimates (%.2f s) have no "
+        "yaw information (heading arbitrary); then the window restarts from "
+        "the aligned state\n",
+        run.filter_yaw_unknown, run.yaw_observable_after_seconds);
+  }
 }
 
 struct Estimate {
@@ -170,7 +221,7 @@ int RunInertialCommand(const std::vector<std::string>& args) {
   }
   if (FLAGS_i.empty() || FLAGS_o.empty() || !args.empty()) {
     std::cerr << "usage: slam inertial -i INPUT -o DIR [--config FILE] "
-                 "[--gt FILE|input]\n";
+                 "[--gt FILE|input] [--dead_reckoning]\n";
     return 2;
   }
   InertialData data;
@@ -215,6 +266,23 @@ int RunInertialCommand(const std::vector<std::string>& args) {
       config.options.noise.accel_noise_density, config.accel_noise_inflation,
       options.noise.gyro_random_walk, options.noise.accel_random_walk);
 
+  // What the data cannot determine (inertial_initializer.h).
+  if (data.positions.empty() && !FLAGS_dead_reckoning) {
+    std::cerr << "slam inertial: " << FLAGS_i
+              << ": no position fixes: the IMU alone cannot determine the "
+                 "position or the heading, and its dead reckoning drifts "
+                 "without bound (kilometres within a minute for a MEMS IMU); "
+                 "add fixes, or pass --dead_reckoning to run anyway\n";
+    return 1;
+  }
+  const std::vector<std::string> warnings = InertialDataWarnings(data);
+  if (data.positions.empty()) {
+    std::cerr << "slam inertial: warning: dead reckoning (no position "
+                 "fixes): the estimates drift without bound\n";
+  }
+  for (const std::string& w : warnings) {
+    std::cerr << "slam inertial: warning: " << w << "\n";
+  }
   const bool run_window = config.estimator != "batch";
   const bool run_batch = config.estimator != "window";
   InertialRun window, batch;
@@ -240,6 +308,7 @@ int RunInertialCommand(const std::vector<std::string>& args) {
       std::cerr << "slam inertial: " << FLAGS_i << ": " << error << "\n";
       return 1;
     }
+    PrintInitialization(window);
     estimates.push_back({"window", ToTrajectory(window.smoothed),
                          &window.smoothed, &window.smoothed_covariance});
     estimates.push_back({"window_filter", ToTrajectory(window.filter),
@@ -268,6 +337,7 @@ int RunInertialCommand(const std::vector<std::string>& args) {
       std::cerr << "slam inertial: " << FLAGS_i << ": " << error << "\n";
       return 1;
     }
+    if (!run_window) PrintInitialization(batch);
     estimates.push_back({"batch", ToTrajectory(batch.smoothed)});
     files.emplace_back("batch_states.csv", StatesCsv(batch.smoothed));
     JsonObject timing;
@@ -275,6 +345,10 @@ int RunInertialCommand(const std::vector<std::string>& args) {
         .Add("total_s", batch.total_seconds);
     report.Add("batch", timing);
   }
+
+  report.Add("initialization",
+             InitializationJson(run_window ? window : batch, warnings,
+                                data.positions.empty()));
 
   if (evaluate) {
     EvalSettings settings;

@@ -27,11 +27,12 @@
 //     initial_accel_bias: [0, 0, 0]  # m/s^2
 //
 // initial_state: auto uses the input's initial state when it has one (the
-// GTSAM "i" row), else a static start (frontends/inertial/
-// inertial_estimator.h); ground_truth starts at the first ground-truth state
-// of an EuRoC folder (IMU readings before it are dropped) with the prior
-// sigmas above, as EuRoC evaluations commonly do; it takes the ground
-// truth's bias as the prior mean too (in place of initial_*_bias).
+// GTSAM "i" row), else the initializer's (still start and in-motion
+// alignment, frontends/inertial/inertial_initializer.h); ground_truth starts
+// at the first ground-truth state of an EuRoC folder (IMU readings before it
+// are dropped) with the prior sigmas above, as EuRoC evaluations commonly do;
+// it takes the ground truth's bias as the prior mean too (in place of
+// initial_*_bias).
 // Noise: the densities default to the EuRoC sensor's data sheet (ADIS16448
 // as EuRoC's imu0/sensor.yaml states it), which the simulator generates.
 // On a flying platform rotor vibration and unmodelled effects (aliasing,

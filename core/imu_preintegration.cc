@@ -93,6 +93,18 @@ bool PreintegratedImu::Integrate(const Eigen::Vector3d& accel,
                     (drift_covariance_ +
                      Eigen::Matrix<double, 6, 6>(q_diag.asDiagonal())) *
                     B.transpose();
+  // The reading is the noise averaged over the interval; the white noise
+  // WITHIN it also moves the position: integrated twice over dt it has
+  // variance density^2 dt^3 / 3 per axis, of which the held reading above
+  // carries density^2 dt^3 / 4 (its velocity part and the velocity-position
+  // correlation dt^2 / 2 are exact). Without the remaining dt^3 / 12 one
+  // reading gives a rank-6 covariance (position noise a copy of velocity
+  // noise), so that intervals of one or two readings (keyframe rate near the
+  // IMU rate) had no valid information matrix.
+  covariance_.block<3, 3>(6, 6) +=
+      Eigen::Matrix3d::Identity() *
+      (noise_.accel_noise_density * noise_.accel_noise_density * dt2 * dt /
+       12.0);
   covariance_ = 0.5 * (covariance_ + covariance_.transpose()).eval();
   drift_cross_ = A * drift_cross_ + B * drift_covariance_;
   Eigen::Matrix<double, 6, 1> walk;

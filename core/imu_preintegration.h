@@ -49,7 +49,12 @@
 //   covariance() is the 9x9 covariance over [dphi, dv, dp] propagated with
 //   Sigma' = A Sigma A^T + B Q B^T, Q = diag(sigma_g^2 / dt I3, sigma_a^2 / dt
 //   I3): the continuous-time noise densities of ImuNoise turned into the
-//   discrete per-sample covariance density^2 / dt. The bias drifting WITHIN
+//   discrete per-sample covariance density^2 / dt, plus sigma_a^2 dt^3 / 12
+//   I3 on dp per reading: the position effect of the white noise within
+//   the interval that the held reading misses (continuous-time white noise
+//   integrated twice has variance sigma_a^2 dt^3 / 3; the held reading
+//   gives dt^3 / 4). It keeps the covariance positive definite for a single
+//   reading (keyframes at the IMU rate). The bias drifting WITHIN
 //   [i, j) as a random walk from b_i (the factor holds b_i throughout) is
 //   included: it enters like a bias change (through the input matrix) and is
 //   propagated jointly, Cov(delta, beta) and Cov(beta), with the random-walk

@@ -355,6 +355,7 @@ bool ReadEurocInertial(const std::string& folder, InertialData* data,
   out.gravity = DefaultGravity();
 
   const std::string imu_path = mav0 + "/imu0/data.csv";
+  out.imu_path = imu_path;
   if (!FileExists(imu_path)) {
     *error = folder + ": no mav0/imu0/data.csv (not an EuRoC folder)";
     return false;
@@ -384,6 +385,7 @@ bool ReadEurocInertial(const std::string& folder, InertialData* data,
               return false;
             }
             out.imu.push_back(s);
+            out.imu_lines.push_back(csv.line());
             return true;
           })) {
     return false;

@@ -96,6 +96,10 @@ struct InertialData {
   bool has_initial_state = false;
   NavState initial_state;
   Eigen::Vector3d gravity = DefaultGravity();
+  // Where the IMU readings came from (EuRoC reader): the file and the line
+  // of each reading, for messages about them. Empty otherwise.
+  std::string imu_path;
+  std::vector<int64_t> imu_lines;
 };
 
 // Plausibility bounds of IMU readings (consumer and tactical IMUs saturate

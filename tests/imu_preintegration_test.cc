@@ -11,6 +11,7 @@
 //   * the builders' whitening (|r|^2 = e^T Omega e) and rejection of bad input.
 #include "core/imu_preintegration.h"
 
+#include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -261,6 +262,43 @@ TEST(ImuPreintegrationTest, RejectsBadSamples) {
   EXPECT_EQ(pim.num_samples(), 0);
   EXPECT_TRUE(pim.Integrate(a, g, 0.01));
   EXPECT_EQ(pim.num_samples(), 1);
+}
+
+// One reading (keyframes at the IMU rate) or two: the covariance is that of
+// continuous white noise integrated over dt (position variance
+// sigma_a^2 dt^3 / 3, velocity-position covariance sigma_a^2 dt^2 / 2), so
+// positive definite, and the IMU factor can be built. Held readings alone
+// gave dt^3 / 4 and a rank-6 covariance ("not positive definite").
+TEST(ImuPreintegrationTest, OneOrTwoReadingsGiveAPositiveDefiniteCovariance) {
+  const ImuNoise noise;
+  const double dt = 0.005;
+  PreintegratedImu still(noise);
+  ASSERT_TRUE(
+      still.Integrate(Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), dt));
+  const double var_a = noise.accel_noise_density * noise.accel_noise_density;
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_NEAR(still.covariance()(6 + i, 6 + i), var_a * dt * dt * dt / 3.0,
+                1e-12 * var_a * dt * dt * dt);
+    EXPECT_NEAR(still.covariance()(3 + i, 6 + i), var_a * dt * dt / 2.0,
+                1e-12 * var_a * dt * dt);
+  }
+  const LissajousTrajectory traj;
+  for (int n : {1, 2}) {
+    PreintegratedImu pim(noise);
+    for (int k = 0; k < n; ++k) {
+      Eigen::Vector3d a, g;
+      TrueReadings(traj, 2.0 + (k + 0.5) * dt, DefaultGravity(),
+                   ImuBias::Zero(), &a, &g);
+      ASSERT_TRUE(pim.Integrate(a, g, dt));
+    }
+    Eigen::LLT<Eigen::MatrixXd> llt(pim.covariance());
+    EXPECT_EQ(llt.info(), Eigen::Success) << n << " readings";
+    Factor f;
+    std::string error;
+    EXPECT_TRUE(MakeImuFactor(Pose3Key(0), VelocityKey(0), ImuBiasKey(0),
+                              Pose3Key(1), VelocityKey(1), pim, &f, &error))
+        << n << " readings: " << error;
+  }
 }
 
 // Error of a noisy integration against the nominal one, in the covariance's

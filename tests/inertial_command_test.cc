@@ -290,10 +290,11 @@ TEST(InertialCommandTest, BadInputAndConfigFailCleanly) {
             1);
   EXPECT_TRUE(Contains(ReadText(dir + "/csv.log"), dir + "/bad.csv:3"))
       << ReadText(dir + "/csv.log");
-  // Too short to hold two keyframes.
+  // Too short to hold two keyframes (no fixes either: allowed here).
   WriteText(dir + "/short.csv",
             "i,0,0,0,0,0,0,1,0,0,0\n0,0,0,9.81,0,0,0\n0,0,0,9.81,0,0,0\n");
-  EXPECT_EQ(RunSlam("inertial -i " + dir + "/short.csv -o " + dir + "/out",
+  EXPECT_EQ(RunSlam("inertial -i " + dir + "/short.csv -o " + dir +
+                        "/out --dead_reckoning",
                     dir + "/short.log"),
             1);
   EXPECT_TRUE(Contains(ReadText(dir + "/short.log"), "keyframe"))

@@ -10,6 +10,7 @@
 #include "factors/inertial_factors.h"
 #include "factors/marginalization_prior.h"
 #include "factors/pose_factors.h"
+#include "frontends/inertial/inertial_initializer.h"
 
 namespace slam {
 namespace {
@@ -33,37 +34,75 @@ bool Preintegrate(const InertialData& data, size_t a, size_t b,
   return true;
 }
 
-// The initial state and the prior sigmas (position, rotation, velocity).
+// The initial state and the prior sigmas (position, rotation, velocity,
+// biases); the rotation sigma about the world vertical (yaw) separately.
 struct InitialGuess {
   InertialState state;
-  double position_sigma, rotation_sigma, velocity_sigma;
+  double position_sigma, rotation_sigma, yaw_sigma, velocity_sigma;
+  double gyro_bias_sigma, accel_bias_sigma;
 };
 
+// The input's initial state, or the initializer's (inertial_initializer.h).
 InitialGuess MakeInitialGuess(const InertialData& data,
-                              const InertialOptions& options) {
+                              const InertialOptions& options,
+                              const InertialInitialization& init) {
   InitialGuess guess;
   guess.state.stamp = data.imu.front().stamp;
   guess.state.bias = options.initial_bias;
+  guess.gyro_bias_sigma = options.prior_gyro_bias_sigma;
+  guess.accel_bias_sigma = options.prior_accel_bias_sigma;
   if (data.has_initial_state) {
     guess.state.state = data.initial_state;
-
     guess.position_sigma = options.prior_position_sigma;
     guess.rotation_sigma = options.prior_rotation_sigma;
+    guess.yaw_sigma = options.prior_rotation_sigma;
     guess.velocity_sigma = options.prior_velocity_sigma;
     return guess;
   }
-  // At rest: the accelerometer reads R^T (-g); yaw is unknown.
+  guess.state = init.state;
+  guess.position_sigma = init.position_sigma;
+  guess.rotation_sigma = init.tilt_sigma;
+  guess.yaw_sigma = init.yaw_sigma;
+  guess.velocity_sigma = init.velocity_sigma;
+  guess.gyro_bias_sigma = init.gyro_bias_sigma;
+  guess.accel_bias_sigma = init.accel_bias_sigma;
+  return guess;
+}
+
+// The guess before the yaw is observable: the initializer's state with its
+// yaw removed (heading 0 is as good as any) and no yaw information, the
+// position at the first fix, velocity 0 (known only at a still start).
+InitialGuess YawUnknownGuess(const InertialData& data,
+                             const InertialOptions& options,
+                             const InitialGuess& aligned,
+                             const InertialInitialization& init) {
+  InitialGuess guess = aligned;
   Eigen::Vector3d up = -options.gravity;
   if (up.norm() < 1e-9) up = Eigen::Vector3d::UnitZ();
-  const Eigen::Quaterniond q =
-      Eigen::Quaterniond::FromTwoVectors(data.imu.front().accel, up);
-  Eigen::Vector3d p = Eigen::Vector3d::Zero();
-  if (!data.positions.empty()) p = data.positions.front().position;
-  guess.state.state.pose = Pose3(p, q);
-  guess.position_sigma =
-      data.positions.empty() ? 1.0 : std::max(options.position_sigma, 1e-3);
-  guess.rotation_sigma = 1.0;
-  guess.velocity_sigma = 1.0;
+  up.normalize();
+  const Eigen::Matrix3d r = aligned.state.state.pose.q.toRotationMatrix();
+  Eigen::Vector3d x = r.col(0);
+  if ((x - x.dot(up) * up).norm() < 0.1) x = r.col(1);
+  // Heading of x about `up`, measured from the world axis most
+  // perpendicular to up.
+  Eigen::Vector3d ref = Eigen::Vector3d::UnitX();
+  if (std::abs(ref.dot(up)) > 0.9) ref = Eigen::Vector3d::UnitY();
+  ref = (ref - ref.dot(up) * up).normalized();
+  const double yaw =
+      std::atan2(up.dot(ref.cross(x)), ref.dot(x - x.dot(up) * up));
+  guess.state.state.pose.q =
+      Eigen::Quaterniond(Eigen::AngleAxisd(-yaw, up) * r).normalized();
+  guess.state.state.pose.t.setZero();
+  for (const PositionFix& f : data.positions) {
+    if (f.stamp >= data.imu.front().stamp) {
+      guess.state.state.pose.t = f.position;
+      break;
+    }
+  }
+  guess.position_sigma = data.positions.empty() ? 1.0 : options.position_sigma;
+  guess.state.state.velocity.setZero();
+  guess.velocity_sigma = init.still_start ? init.velocity_sigma : 1.0;
+  guess.yaw_sigma = M_PI;
   return guess;
 }
 
@@ -80,9 +119,18 @@ bool KeyframeFactors(const InertialData& data, const KeyframePlan& plan,
     Eigen::Matrix<double, 6, 6> info = Eigen::Matrix<double, 6, 6>::Zero();
     info.diagonal().head<3>().setConstant(
         1.0 / (guess.position_sigma * guess.position_sigma));
-    // MakePriorSE3's rotation error is the quaternion vector (half angle).
-    info.diagonal().tail<3>().setConstant(
-        4.0 / (guess.rotation_sigma * guess.rotation_sigma));
+    // MakePriorSE3's rotation error is the quaternion vector (half angle)
+    // in the prior's body frame; the yaw sigma applies about world up.
+    Eigen::Vector3d up = -options.gravity;
+    if (up.norm() < 1e-9) up = Eigen::Vector3d::UnitZ();
+    const Eigen::Vector3d up_body =
+        guess.state.state.pose.q.conjugate() * up.normalized();
+    const double tilt_info =
+        4.0 / (guess.rotation_sigma * guess.rotation_sigma);
+    const double yaw_info = 4.0 / (guess.yaw_sigma * guess.yaw_sigma);
+    info.bottomRightCorner<3, 3>() =
+        tilt_info * Eigen::Matrix3d::Identity() +
+        (yaw_info - tilt_info) * up_body * up_body.transpose();
     if (!MakePriorSE3(Pose3Key(0), guess.state.state.pose, info, &f, error)) {
       return false;
     }
@@ -96,10 +144,9 @@ bool KeyframeFactors(const InertialData& data, const KeyframePlan& plan,
     factors->push_back(f);
     Eigen::Matrix<double, 6, 6> bias_info = Eigen::Matrix<double, 6, 6>::Zero();
     bias_info.diagonal().head<3>().setConstant(
-        1.0 / (options.prior_gyro_bias_sigma * options.prior_gyro_bias_sigma));
+        1.0 / (guess.gyro_bias_sigma * guess.gyro_bias_sigma));
     bias_info.diagonal().tail<3>().setConstant(
-        1.0 /
-        (options.prior_accel_bias_sigma * options.prior_accel_bias_sigma));
+        1.0 / (guess.accel_bias_sigma * guess.accel_bias_sigma));
     if (!MakePriorBias(ImuBiasKey(0), guess.state.bias, bias_info, &f, error)) {
       return false;
     }
@@ -247,21 +294,21 @@ bool PlanKeyframes(const InertialData& data, double keyframe_rate_hz,
   return true;
 }
 
-bool RunSlidingWindow(const InertialData& data, const InertialOptions& options,
-                      InertialRun* run, std::ostream* progress,
-                      std::string* error) {
-  *run = InertialRun();
-  const auto start = std::chrono::steady_clock::now();
-  KeyframePlan plan;
-  if (!PlanKeyframes(data, options.keyframe_rate_hz, &plan, error)) {
-    return false;
-  }
-  const InitialGuess guess = MakeInitialGuess(data, options);
+namespace {
+
+// One pass of the sliding window from `guess` over keyframes [0, k_end):
+// the filter states (and covariances) into *run; with `finish`, the
+// smoothed states of all keyframes too.
+bool RunWindowPass(const InertialData& data, const KeyframePlan& plan,
+                   const InertialOptions& options, const InitialGuess& guess,
+                   size_t k_end, bool finish, const char* label,
+                   InertialRun* run, std::ostream* progress,
+                   std::string* error) {
   SlidingWindowOptions window_options = options.window;
   window_options.prior_builder = MakeMarginalizationPrior;
   window_options.final_covariances = options.smoothed_covariance;
   SlidingWindow window(window_options);
-  const size_t n = plan.sample.size();
+  const size_t n = k_end;
   std::vector<Factor> factors;
   PreintegratedImu pim(options.noise, ImuBias::Zero(), options.gravity);
   size_t next_report = 1;
@@ -306,14 +353,17 @@ bool RunSlidingWindow(const InertialData& data, const InertialOptions& options,
       const TimingSummary t = SummarizeTimes(window.update_seconds());
       char line[200];
       std::snprintf(line, sizeof(line),
-                    "window: keyframe %zu/%zu t=%.2f s, update median %.2f ms "
+                    "%s: keyframe %zu/%zu t=%.2f s, update median %.2f ms "
                     "p99 %.2f ms, chi2 %.4g\n",
-                    k + 1, n, NsToSeconds(stamp - data.imu.front().stamp),
-                    1e3 * t.median, 1e3 * t.p99, stats.final_chi2);
+                    label, k + 1, n,
+                    NsToSeconds(stamp - data.imu.front().stamp), 1e3 * t.median,
+                    1e3 * t.p99, stats.final_chi2);
       *progress << line;
       while ((k + 1) * 10 >= next_report * n) ++next_report;
     }
   }
+  run->update_seconds = window.update_seconds();
+  if (!finish) return true;
   window.Finish();
   if (options.smoothed_covariance) {
     // Keyframes leave the window in order, Finish() adds the rest in order.
@@ -333,7 +383,85 @@ bool RunSlidingWindow(const InertialData& data, const InertialOptions& options,
                                       v.at(Pose3Key(id)), v.at(VelocityKey(id)),
                                       v.at(ImuBiasKey(id))));
   }
-  run->update_seconds = window.update_seconds();
+  return true;
+}
+
+void CopyInitialization(const InertialData& data,
+                        const InertialInitialization& init, InertialRun* run) {
+  run->initialization_summary = init.summary;
+  run->yaw_observable = data.has_initial_state || init.yaw_observable;
+  run->yaw_observable_after_seconds =
+      data.has_initial_state
+          ? 0.0
+          : NsToSeconds(init.yaw_observable_stamp - data.imu.front().stamp);
+}
+
+}  // namespace
+
+bool RunSlidingWindow(const InertialData& data, const InertialOptions& options,
+                      InertialRun* run, std::ostream* progress,
+                      std::string* error) {
+  *run = InertialRun();
+  const auto start = std::chrono::steady_clock::now();
+  KeyframePlan plan;
+  if (!PlanKeyframes(data, options.keyframe_rate_hz, &plan, error)) {
+    return false;
+  }
+  InertialInitialization init;
+  if (!data.has_initial_state &&
+      !InitializeInertial(data, options, &init, error)) {
+    return false;
+  }
+  CopyInitialization(data, init, run);
+  const InitialGuess guess = MakeInitialGuess(data, options, init);
+  const size_t n = plan.sample.size();
+  // Keyframes before the yaw is observable: the real-time estimate has no
+  // yaw information (pass A); from then on the window started from the
+  // aligned state (pass B, which re-runs the first keyframes at that time).
+  size_t k_obs = 0;
+  if (!data.has_initial_state) {
+    while (k_obs < n &&
+           data.imu[plan.sample[k_obs]].stamp < init.yaw_observable_stamp) {
+      ++k_obs;
+    }
+    if (!init.yaw_observable) k_obs = n;
+  }
+  run->filter_yaw_unknown = k_obs;
+  InertialRun pass_a;
+  if (k_obs > 0) {
+    if (!RunWindowPass(data, plan, options,
+                       YawUnknownGuess(data, options, guess, init), k_obs,
+                       k_obs == n, "window (yaw unknown)", &pass_a, progress,
+                       error)) {
+      return false;
+    }
+  }
+  if (k_obs == n) {  // The yaw never became observable.
+    pass_a.initialization_summary = run->initialization_summary;
+    pass_a.yaw_observable = run->yaw_observable;
+    pass_a.yaw_observable_after_seconds = run->yaw_observable_after_seconds;
+    pass_a.filter_yaw_unknown = n;
+    *run = std::move(pass_a);
+  } else {
+    if (!RunWindowPass(data, plan, options, guess, n, true, "window", run,
+                       progress, error)) {
+      return false;
+    }
+    if (k_obs > 0) {
+      // Real time: pass A's estimates up to k_obs; at k_obs the catch-up
+      // of pass B over keyframes 0..k_obs.
+      double catch_up = 0.0;
+      for (size_t k = 0; k <= k_obs; ++k) catch_up += run->update_seconds[k];
+      for (size_t k = 0; k < k_obs; ++k) {
+        run->filter[k] = pass_a.filter[k];
+        run->update_seconds[k] = pass_a.update_seconds[k];
+        if (options.newest_covariance) {
+          run->newest_covariance[k] = pass_a.newest_covariance[k];
+        }
+      }
+      run->update_seconds[k_obs] = catch_up;
+    }
+  }
   run->total_seconds = SecondsSince(start);
   if (progress != nullptr) {
     const TimingSummary t = SummarizeTimes(run->update_seconds);
@@ -365,7 +493,13 @@ bool RunBatch(const InertialData& data, const InertialOptions& options,
              " states for " + std::to_string(n) + " keyframes";
     return false;
   }
-  const InitialGuess guess = MakeInitialGuess(data, options);
+  InertialInitialization initialization;
+  if (!data.has_initial_state &&
+      !InitializeInertial(data, options, &initialization, error)) {
+    return false;
+  }
+  CopyInitialization(data, initialization, run);
+  const InitialGuess guess = MakeInitialGuess(data, options, initialization);
   Graph graph;
   std::vector<Factor> factors;
   PreintegratedImu pim(options.noise, ImuBias::Zero(), options.gravity);
@@ -405,6 +539,7 @@ bool RunBatch(const InertialData& data, const InertialOptions& options,
     *error = "batch optimization failed: " + summary.termination;
     return false;
   }
+  run->final_chi2 = summary.final_chi2;
   for (size_t k = 0; k < n; ++k) {
     run->smoothed.push_back(GraphState(graph, static_cast<int64_t>(k),
                                        data.imu[plan.sample[k]].stamp));

@@ -36,9 +36,13 @@ namespace slam {
 
 // Input: InertialData (datasets/imu_io.h): IMU readings, position fixes and
 // the initial state when the file has one (GTSAM's "i" row; the simulator's
-// true state). Without it: the first fix's position (or 0), zero velocity,
-// roll and pitch from the first accelerometer reading (assumed at rest), with
-// wide priors (1 m or the fix sigma, 1 rad, 1 m/s).
+// true state). Without it: the initializer (inertial_initializer.h; still
+// start, in-motion alignment from the fixes) gives the first state and its
+// prior sigmas. The window's real-time (filter) estimates before the yaw is
+// observable come from a pass without yaw information; when the alignment
+// succeeds, the window restarts from the aligned state (a catch-up over the
+// keyframes so far) and its estimates follow from there; the batch starts
+// from dead reckoning from the aligned state.
 struct InertialOptions {
   double keyframe_rate_hz = 10.0;
   ImuBias initial_bias = ImuBias::Zero();  // Prior mean of the first bias.
@@ -83,6 +87,16 @@ struct InertialRun {
   std::vector<double> update_seconds;  // Window updates.
   double total_seconds = 0.0;
   int num_fixes_used = 0;
+  double final_chi2 = 0.0;  // Batch: chi2 at the optimum.
+  // Initialization (frontends/inertial/inertial_initializer.h) when the
+  // input has no initial state: its one-line summary, whether the yaw
+  // became observable and after how many seconds of data; the first
+  // filter_yaw_unknown `filter` states were estimated without yaw
+  // information (their heading is arbitrary, their covariance says so).
+  std::string initialization_summary;
+  bool yaw_observable = true;
+  double yaw_observable_after_seconds = 0.0;
+  size_t filter_yaw_unknown = 0;
 };
 
 // The keyframes: sample index of each keyframe and the fix attached to it.

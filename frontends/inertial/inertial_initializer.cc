@@ -1,0 +1,373 @@
+#include "frontends/inertial/inertial_initializer.h"
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace slam {
+namespace {
+
+constexpr double kBlockSeconds = 0.5;
+constexpr double kStillAccelNormTolerance = 0.5;  // m/s^2
+constexpr double kStillMaxAccelStd = 1.0;         // m/s^2
+constexpr double kStillMaxGyroStd = 0.1;          // rad/s
+constexpr double kStillFixSigmas = 4.0;
+constexpr double kStillMaxGyroMeanChange = 0.005;  // rad/s
+constexpr double kStillMaxAccelMeanChange = 0.2;   // m/s^2
+constexpr int kMinAlignmentFixes = 5;
+
+struct Moments {
+  Eigen::Vector3d accel_sum = Eigen::Vector3d::Zero();
+  Eigen::Vector3d accel_sq = Eigen::Vector3d::Zero();
+  Eigen::Vector3d gyro_sum = Eigen::Vector3d::Zero();
+  Eigen::Vector3d gyro_sq = Eigen::Vector3d::Zero();
+  int n = 0;
+  void Add(const ImuSample& s) {
+    accel_sum += s.accel;
+    accel_sq += s.accel.cwiseProduct(s.accel);
+    gyro_sum += s.gyro;
+    gyro_sq += s.gyro.cwiseProduct(s.gyro);
+    ++n;
+  }
+  Eigen::Vector3d AccelMean() const { return accel_sum / n; }
+  Eigen::Vector3d GyroMean() const { return gyro_sum / n; }
+  double MaxStd(const Eigen::Vector3d& sum, const Eigen::Vector3d& sq) const {
+    const Eigen::Vector3d mean = sum / n;
+    const Eigen::Vector3d var = sq / n - mean.cwiseProduct(mean);
+    return std::sqrt(std::max(0.0, var.maxCoeff()));
+  }
+};
+
+// End (exclusive sample index) of the still prefix, 0 when there is none.
+size_t StillPrefix(const InertialData& data, const InertialOptions& options,
+                   double* seconds) {
+  const TimeNs t0 = data.imu.front().stamp;
+  const TimeNs block = static_cast<TimeNs>(kBlockSeconds * 1e9);
+  const double g = options.gravity.norm();
+  size_t end = 0;
+  size_t s = 0;
+  std::vector<Eigen::Vector3d> fixes;
+  size_t f = 0;
+  while (f < data.positions.size() && data.positions[f].stamp < t0) ++f;
+  Moments all;
+  for (int b = 0;; ++b) {
+    const TimeNs block_end = t0 + (b + 1) * block;
+    Moments m;
+    while (s < data.imu.size() && data.imu[s].stamp < block_end) {
+      m.Add(data.imu[s++]);
+    }
+    if (m.n < 2 || data.imu[s - 1].stamp - t0 < (b + 1) * block - block / 2) {
+      break;  // The log ended within the block.
+    }
+    if (std::abs(m.AccelMean().norm() - g) > kStillAccelNormTolerance ||
+        m.MaxStd(m.accel_sum, m.accel_sq) > kStillMaxAccelStd ||
+        m.MaxStd(m.gyro_sum, m.gyro_sq) > kStillMaxGyroStd) {
+      break;
+    }
+    // At rest the block means stay those of the blocks before (vibration
+    // averages out; a slow start of the motion does not).
+    if (all.n > 0 && ((m.GyroMean() - all.GyroMean()).cwiseAbs().maxCoeff() >
+                          kStillMaxGyroMeanChange ||
+                      (m.AccelMean() - all.AccelMean()).cwiseAbs().maxCoeff() >
+                          kStillMaxAccelMeanChange)) {
+      break;
+    }
+    all.accel_sum += m.accel_sum;
+    all.gyro_sum += m.gyro_sum;
+    all.n += m.n;
+    std::vector<Eigen::Vector3d> candidate = fixes;
+    while (f < data.positions.size() && data.positions[f].stamp < block_end) {
+      candidate.push_back(data.positions[f++].position);
+    }
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    for (const Eigen::Vector3d& p : candidate) mean += p;
+    if (!candidate.empty()) mean /= static_cast<double>(candidate.size());
+    bool spread_ok = true;
+    for (const Eigen::Vector3d& p : candidate) {
+      spread_ok = spread_ok && (p - mean).cwiseAbs().maxCoeff() <=
+                                   kStillFixSigmas * options.position_sigma;
+    }
+    if (!spread_ok) break;
+    fixes = candidate;
+    if (fixes.size() >= 2) end = s;  // Confirmed by the fixes so far.
+  }
+  *seconds = end == 0 ? 0.0 : NsToSeconds(data.imu[end - 1].stamp - t0);
+  return end;
+}
+
+// Normal equations of the alignment with roll and pitch known: u = R_tilt
+// (dp + dR lever_arm) rotated by the yaw psi about the vertical,
+// (c, s) = (cos psi, sin psi):
+//   horizontal: y_x = p0x + v0x t + c u_x - s u_y + e_x u_z,
+//               y_y = p0y + v0y t + s u_x + c u_y + e_y u_z  (8 unknowns;
+//               e: a small tilt error (or constant horizontal
+//               accelerometer error) acting on the large vertical u_z),
+//   vertical:   y_z = p0z + v0z t + u_z + 1/2 b t^2  (3 unknowns; b absorbs
+//               the accelerometer's error along the vertical).
+struct Alignment {
+  using Vec8 = Eigen::Matrix<double, 8, 1>;
+  using Mat8 = Eigen::Matrix<double, 8, 8>;
+  Mat8 normal = Mat8::Zero();
+  Vec8 rhs = Vec8::Zero();
+  Eigen::Matrix3d normal_z = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d rhs_z = Eigen::Vector3d::Zero();
+  double yy = 0.0;
+  int fixes = 0;
+
+  void Add(double tau, const Eigen::Vector3d& y, const Eigen::Vector3d& u,
+           double weight) {
+    Vec8 ax, ay;
+    ax << 1.0, 0.0, tau, 0.0, u.x(), -u.y(), u.z(), 0.0;
+    ay << 0.0, 1.0, 0.0, tau, u.y(), u.x(), 0.0, u.z();
+    normal += weight * (ax * ax.transpose() + ay * ay.transpose());
+    rhs += weight * (ax * y.x() + ay * y.y());
+    yy += weight * (y.x() * y.x() + y.y() * y.y());
+    const Eigen::Vector3d az(1.0, tau, 0.5 * tau * tau);
+    normal_z += weight * az * az.transpose();
+    rhs_z += weight * az * (y.z() - u.z());
+    ++fixes;
+  }
+
+  struct Result {
+    double yaw = 0.0, yaw_sigma = M_PI;
+    Eigen::Vector2d tilt_error = Eigen::Vector2d::Zero();  // e (see above)
+    Eigen::Vector3d p0 = Eigen::Vector3d::Zero(), v0 = Eigen::Vector3d::Zero();
+    double position_sigma = 1.0, velocity_sigma = 1.0, tilt_sigma = 1.0;
+    bool ok = false;
+  };
+  Result Solve() const {
+    Result r;
+    if (fixes < kMinAlignmentFixes) return r;
+    Eigen::LDLT<Mat8> ldlt(normal);
+    Eigen::LDLT<Eigen::Matrix3d> ldlt_z(normal_z);
+    if (ldlt.info() != Eigen::Success || ldlt_z.info() != Eigen::Success) {
+      return r;
+    }
+    const Vec8 x = ldlt.solve(rhs);
+    const Eigen::Vector3d xz = ldlt_z.solve(rhs_z);
+    const Mat8 cov = ldlt.solve(Mat8::Identity());
+    if (!x.allFinite() || !xz.allFinite() || !cov.allFinite()) return r;
+    const int dof = 2 * fixes - 8;
+    const double chi2 = yy - x.dot(rhs);
+    const double scale = dof > 0 ? std::max(1.0, chi2 / dof) : 1.0;
+    const Eigen::Vector2d cs = x.segment<2>(4);
+    const double norm = cs.norm();
+    // (c, s) should be a unit vector; far from it the model does not fit.
+    if (!(norm > 0.8 && norm < 1.25)) return r;
+    const Eigen::Vector2d across(-cs.y() / norm, cs.x() / norm);
+    r.yaw = std::atan2(cs.y(), cs.x());
+    r.yaw_sigma =
+        std::sqrt(scale * across.dot(cov.block<2, 2>(4, 4) * across)) / norm;
+    r.tilt_error = x.tail<2>();
+    r.p0 = Eigen::Vector3d(x[0], x[1], xz[0]);
+    r.v0 = Eigen::Vector3d(x[2], x[3], xz[1]);
+    const Eigen::Matrix3d cov_z = ldlt_z.solve(Eigen::Matrix3d::Identity());
+    r.position_sigma =
+        std::sqrt(scale * std::max({cov(0, 0), cov(1, 1), cov_z(0, 0)}));
+    r.velocity_sigma =
+        std::sqrt(scale * std::max({cov(2, 2), cov(3, 3), cov_z(1, 1)}));
+    r.tilt_sigma = std::sqrt(scale * std::max(cov(6, 6), cov(7, 7)));
+    r.ok = std::isfinite(r.yaw_sigma) && r.tilt_error.norm() < 0.5;
+    return r;
+  }
+};
+
+double YawOf(const Eigen::Matrix3d& r) {
+  // Heading of the body x axis projected on the horizontal plane (or of
+  // the body y axis when x is near vertical).
+  Eigen::Vector3d x = r.col(0);
+  if (std::hypot(x.x(), x.y()) < 0.1) x = r.col(1);
+  return std::atan2(x.y(), x.x());
+}
+
+}  // namespace
+
+bool InitializeInertial(const InertialData& data,
+                        const InertialOptions& options,
+                        InertialInitialization* init, std::string* error) {
+  *init = InertialInitialization();
+  if (data.imu.empty()) {
+    *error = "no IMU readings";
+    return false;
+  }
+  const TimeNs t0 = data.imu.front().stamp;
+  init->state.stamp = t0;
+  init->state.bias = options.initial_bias;
+  init->gyro_bias_sigma = options.prior_gyro_bias_sigma;
+  init->accel_bias_sigma = options.prior_accel_bias_sigma;
+
+  // Still start.
+  Eigen::Vector3d up = -options.gravity;
+  if (up.norm() < 1e-9) up = Eigen::Vector3d::UnitZ();
+  const size_t still_end = StillPrefix(data, options, &init->still_seconds);
+  Moments first;
+  const TimeNs first_end = t0 + static_cast<TimeNs>(kBlockSeconds * 1e9);
+  for (size_t s = 0; s < data.imu.size() &&
+                     (s == 0 || s < still_end || data.imu[s].stamp < first_end);
+       ++s) {
+    first.Add(data.imu[s]);
+  }
+  init->still_start = still_end > 0;
+  if (init->still_start) {
+    init->state.bias.head<3>() = first.GyroMean();
+    // The spread of the mean (vibration is not white: a floor).
+    init->gyro_bias_sigma = 2e-3;
+    init->tilt_sigma = 0.02;  // An accelerometer bias of 0.2 m/s^2.
+    init->velocity_sigma = 0.05;
+  } else {
+    init->tilt_sigma = 0.1;  // Mean reading of the first block, in motion.
+  }
+  // Roll and pitch from the mean accelerometer reading (R^T up ~ accel).
+  Eigen::Matrix3d r_tilt =
+      Eigen::Quaterniond::FromTwoVectors(first.AccelMean(), up)
+          .toRotationMatrix();
+  Eigen::Vector3d p0 = Eigen::Vector3d::Zero();
+  size_t f = 0;
+  while (f < data.positions.size() && data.positions[f].stamp < t0) ++f;
+  if (f < data.positions.size()) {
+    p0 = data.positions[f].position;
+    init->position_sigma = std::max(options.position_sigma, 1e-3);
+  }
+  init->state.state.pose = Pose3(p0, Eigen::Quaterniond(r_tilt));
+  // The alignment works in a levelled frame whose z is up.
+  const Eigen::Matrix3d level =
+      Eigen::Quaterniond::FromTwoVectors(up, Eigen::Vector3d::UnitZ())
+          .toRotationMatrix();
+  const Eigen::Matrix3d r_level = level * r_tilt;
+  init->yaw_observable_stamp = data.imu.back().stamp;
+
+  // In-motion alignment over the fixes, in time order.
+  PreintegratedImu pim(options.noise, init->state.bias, options.gravity);
+  TimeNs integrated_to = t0;
+  Alignment alignment;
+  const double weight = 1.0 / (options.position_sigma * options.position_sigma);
+  for (; f < data.positions.size(); ++f) {
+    const PositionFix& fix = data.positions[f];
+    if (fix.stamp > data.imu.back().stamp) break;
+    if (fix.stamp > integrated_to) {
+      if (!IntegrateImuSamples(data.imu, integrated_to, fix.stamp, &pim,
+                               data.interpolation)) {
+        break;  // A non-finite reading: the estimators report it.
+      }
+      integrated_to = fix.stamp;
+    }
+    const double tau = NsToSeconds(fix.stamp - t0);
+    const Eigen::Vector3d y =
+        level * (fix.position - 0.5 * options.gravity * tau * tau);
+    const Eigen::Vector3d u =
+        r_level * (pim.delta_p() + pim.delta_q() * options.lever_arm);
+    alignment.Add(tau, y, u, weight);
+    const Alignment::Result r = alignment.Solve();
+    if (!r.ok || r.yaw_sigma > kMaxYawSigma) continue;
+    init->yaw_observable = true;
+    init->yaw_observable_stamp = fix.stamp;
+    init->alignment_fixes = alignment.fixes;
+    Eigen::Matrix3d r_yaw =
+        Eigen::AngleAxisd(r.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    if (!init->still_start) {
+      // Without a still start the tilt came from a moving accelerometer:
+      // correct it by the fit's horizontal term, a small world rotation
+      // omega with omega x (u_z z) = u_z (e_x, e_y, 0).
+      const Eigen::Vector3d omega(-r.tilt_error.y(), r.tilt_error.x(), 0.0);
+      r_yaw = QuaternionExp<double>(omega).toRotationMatrix() * r_yaw;
+      // e also holds any horizontal accelerometer bias (0.1 m/s^2 is
+      // 0.01 rad): a floor.
+      init->tilt_sigma = std::max(2.0 * r.tilt_sigma, 0.01);
+    }
+    const Eigen::Matrix3d r0 = level.transpose() * r_yaw * r_level;
+    init->state.state.pose =
+        Pose3(level.transpose() * r.p0, Eigen::Quaterniond(r0));
+    if (!init->still_start) {
+      init->state.state.velocity = level.transpose() * r.v0;
+    }
+    init->position_sigma = std::max(r.position_sigma, 1e-3);
+    if (!init->still_start) {
+      init->velocity_sigma = std::max(r.velocity_sigma, 0.01);
+    }
+    // Model errors (accelerometer bias, tilt) are not in the fit: keep
+    // some yaw uncertainty.
+    init->yaw_sigma = std::max(2.0 * r.yaw_sigma, 1.0 * M_PI / 180.0);
+    break;
+  }
+
+  char line[400];
+  char still[80];
+  if (init->still_start) {
+    std::snprintf(still, sizeof(still), "still start of %.1f s",
+                  init->still_seconds);
+  } else {
+    std::snprintf(still, sizeof(still),
+                  "no still start (moving, or not confirmed by 2 fixes)");
+  }
+  const double t_obs = NsToSeconds(init->yaw_observable_stamp - t0);
+  if (init->yaw_observable) {
+    std::snprintf(
+        line, sizeof(line),
+        "initializer: %s; yaw observable after %.2f s (%d fixes): yaw %.1f "
+        "deg +- %.1f, tilt +- %.2f deg, gyro bias (%.4f, %.4f, %.4f) rad/s",
+        still, t_obs, init->alignment_fixes,
+        YawOf(init->state.state.pose.q.toRotationMatrix()) * 180.0 / M_PI,
+        init->yaw_sigma * 180.0 / M_PI, init->tilt_sigma * 180.0 / M_PI,
+        init->state.bias[0], init->state.bias[1], init->state.bias[2]);
+  } else {
+    std::snprintf(line, sizeof(line),
+                  "initializer: %s; yaw NOT observable from the %zu fixes "
+                  "(no horizontal acceleration seen, or too few fixes): "
+                  "the heading of every estimate is unknown",
+                  still, data.positions.size());
+  }
+  init->summary = line;
+  return true;
+}
+
+std::vector<std::string> InertialDataWarnings(const InertialData& data) {
+  std::vector<std::string> out;
+  if (data.imu.size() < 2) return out;
+  std::vector<int64_t> dts;
+  for (size_t s = 1; s < data.imu.size(); ++s) {
+    dts.push_back(data.imu[s].stamp - data.imu[s - 1].stamp);
+  }
+  std::vector<int64_t> sorted = dts;
+  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2,
+                   sorted.end());
+  const double period = static_cast<double>(sorted[sorted.size() / 2]);
+  char text[400];
+  for (size_t s = 1; s < data.imu.size(); ++s) {
+    const double periods = static_cast<double>(dts[s - 1]) / period;
+    if (periods <= kMaxImuGapPeriods) continue;
+    std::string where = "IMU reading " + std::to_string(s);
+    if (data.imu_lines.size() == data.imu.size()) {
+      where = data.imu_path + ":" + std::to_string(data.imu_lines[s]);
+    }
+    std::snprintf(text, sizeof(text),
+                  "%s: IMU gap of %.1f ms (%.1f sample periods of %.2f ms) "
+                  "before this reading: the motion in it is interpolated",
+                  where.c_str(), 1e-6 * static_cast<double>(dts[s - 1]),
+                  periods, 1e-6 * period);
+    out.push_back(text);
+  }
+  if (data.positions.empty()) return out;
+  const TimeNs begin = data.imu.front().stamp, end = data.imu.back().stamp;
+  TimeNs last = begin;
+  auto check = [&](TimeNs from, TimeNs to, const char* what) {
+    const double gap = NsToSeconds(to - from);
+    if (gap <= kMaxFixGapSeconds) return;
+    std::snprintf(text, sizeof(text),
+                  "fixes too sparse: %.1f s without a position fix %s "
+                  "(t = %.1f .. %.1f s; more than %.0f s of IMU alone drifts "
+                  "by metres)",
+                  gap, what, NsToSeconds(from - begin), NsToSeconds(to - begin),
+                  kMaxFixGapSeconds);
+    out.push_back(text);
+  };
+  for (const PositionFix& p : data.positions) {
+    if (p.stamp < begin || p.stamp > end) continue;
+    check(last, p.stamp, last == begin ? "at the start" : "between fixes");
+    last = p.stamp;
+  }
+  check(last, end, last == begin ? "at all within the IMU log" : "at the end");
+  return out;
+}
+
+}  // namespace slam

@@ -1,0 +1,93 @@
+// Initialization of inertial estimation without ground truth: the state at
+// the first IMU reading (frontends/inertial/inertial_estimator.h starts the
+// sliding window and the batch from it) and the checks that the data can
+// determine the state at all.
+//
+// Still start: the longest prefix of 0.5 s blocks in which the readings
+// look like a body at rest (accelerometer norm within 0.5 m/s^2 of |g|,
+// accelerometer std below 1 m/s^2 and gyroscope std below 0.1 rad/s per axis:
+// tolerant of the vibration of a platform whose motors run) and the fixes in
+// it stay within 4 sigma of their mean (at least two fixes must confirm it:
+// an IMU cannot tell a slow steady turn from a gyroscope bias). Over the
+// still interval: gyroscope bias = mean gyroscope reading, roll and pitch
+// from the mean accelerometer reading, velocity 0.
+//
+// In-motion alignment (yaw, velocity; tilt too without a still start), as
+// GNSS/INS systems align: with the rotation dR(t) and the double integral
+// dp(t) of the readings from t0 (the first IMU reading; gyroscope bias from
+// the still start, else the configured initial bias), a fix z at t obeys
+//   z - 1/2 g t^2 = p0 + v0 t + R0 (dp(t) + dR(t) lever_arm).
+// With R0 = Rz(psi) R_tilt (roll and pitch from the mean accelerometer
+// reading of the still interval, else of the first 0.5 s) this is linear in
+// p0, v0, (cos psi, sin psi), plus a small horizontal term e u_z that
+// absorbs a tilt error (magnified by gravity, u_z ~ g t^2 / 2) and a
+// vertical 1/2 b t^2 for the accelerometer's scale along gravity: a
+// weighted least-squares fit (fixes weighted by position_sigma). Its
+// covariance, scaled up by the fit's chi2 per degree of freedom when above
+// 1, gives the yaw standard deviation; e corrects the tilt when there was
+// no still start. Yaw needs horizontal acceleration. Fixes are added one at
+// a time in time order (causal); the yaw is observable at the first fix
+// after which its standard deviation is below kMaxYawSigma (3 degrees) with
+// at least 5 fixes; the prior then gets twice that sigma (at least 1
+// degree: accelerometer bias is not modelled). Until then the estimators
+// put no yaw information in the first prior (sigma 180 degrees), so the
+// covariance of the published estimate shows it.
+#ifndef SLAM_FRONTENDS_INERTIAL_INERTIAL_INITIALIZER_H_
+#define SLAM_FRONTENDS_INERTIAL_INERTIAL_INITIALIZER_H_
+
+#include <string>
+#include <vector>
+
+#include "core/conventions.h"
+#include "datasets/imu_io.h"
+#include "frontends/inertial/inertial_estimator.h"
+
+namespace slam {
+
+// Yaw is observable once its alignment standard deviation is below this.
+constexpr double kMaxYawSigma = 3.0 * M_PI / 180.0;
+// Fix-free stretches longer than this draw a warning (IMU alone drifts by
+// metres within seconds: position error grows with the cube of time).
+constexpr double kMaxFixGapSeconds = 10.0;
+// IMU stamps jumping by more than this many median sample periods draw a
+// warning naming the reading.
+constexpr double kMaxImuGapPeriods = 4.0;
+
+struct InertialInitialization {
+  InertialState state;  // At data.imu.front().stamp.
+  // Prior standard deviations of `state` (world frame; yaw about world z,
+  // tilt about the horizontal axes).
+  double position_sigma = 1.0;
+  double velocity_sigma = 1.0;
+  double tilt_sigma = 0.1;
+  double yaw_sigma = M_PI;
+  double gyro_bias_sigma = 0.01;
+  double accel_bias_sigma = 0.1;
+  bool still_start = false;
+  double still_seconds = 0.0;
+  bool yaw_observable = false;
+  // Stamp of the last fix the alignment needed (the yaw is known from then
+  // on); data.imu.back().stamp when yaw never became observable.
+  TimeNs yaw_observable_stamp = 0;
+  int alignment_fixes = 0;
+  // Human-readable one-line summary.
+  std::string summary;
+};
+
+// Computes the initialization from the data (no ground truth used). False
+// only for data without IMU readings.
+bool InitializeInertial(const InertialData& data,
+                        const InertialOptions& options,
+                        InertialInitialization* init, std::string* error);
+
+// Problems that leave the state poorly determined, one message each:
+// stretches without fixes longer than kMaxFixGapSeconds (at the start, in
+// between, at the end), IMU stamp gaps beyond kMaxImuGapPeriods median
+// periods (with the reading index; the EuRoC reader also names file and
+// line, see datasets/imu_io.h). No fixes at all is not listed here: the
+// command refuses that unless dead reckoning is asked for.
+std::vector<std::string> InertialDataWarnings(const InertialData& data);
+
+}  // namespace slam
+
+#endif  // SLAM_FRONTENDS_INERTIAL_INERTIAL_INITIALIZER_H_
