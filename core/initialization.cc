@@ -314,11 +314,12 @@ bool SolveLinear(const std::vector<LinearTerm<D, M>>& terms,
                                                 x, solver, error);
 }
 
-// Above this many flops of the node-level factorization (about a second of
-// the scalar one) the ordering also tries METIS and nested dissection, which
-// cut the fill of grid-like and spherical graphs several times; below it
-// AMD alone is cheaper than the search.
-constexpr double kNestedDissectionFlops = 1e8;
+// METIS costs a few microseconds per node; when AMD's factorization would
+// cost more than about 2000 flops per scalar unknown (a fraction of a second
+// per 100k nodes) METIS is tried as well, and the order with fewer flops
+// kept: on grid-like and spherical graphs it cuts the flops 2-5 times
+// (100k-node grid2d world, 100 x 100 lattice: 5.2x).
+constexpr double kTryMetisFlopsPerUnknown = 2000.0;
 // Above ~150 flops per factor entry CHOLMOD's supernodal kernels beat the
 // simplicial factorization (the optimizer's measure, core/optimizer.cc); above
 // 2^27 nonzeros the simplicial one is slow anyway and near Eigen's int limit.
@@ -353,9 +354,13 @@ bool PlanSolve(const PoseGraphView& view, int dim, const InitOptions& options,
   if (!FillReducingOrdering(n, node_edges, "amd", &ordering, error)) {
     return false;
   }
-  if (ordering.factor_flops > kNestedDissectionFlops &&
-      !FillReducingOrdering(n, node_edges, "auto", &ordering, error)) {
-    return false;
+  if (ordering.factor_flops * dim * dim >
+      kTryMetisFlopsPerUnknown * static_cast<double>(n)) {
+    OrderingResult metis;
+    if (!FillReducingOrdering(n, node_edges, "metis", &metis, error)) {
+      return false;
+    }
+    if (metis.factor_flops < ordering.factor_flops) ordering = std::move(metis);
   }
   *order = std::move(ordering.order);
   // Scalar factor: D x D blocks per node-level entry.
