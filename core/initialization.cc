@@ -370,15 +370,18 @@ bool PlanSolve(const PoseGraphView& view, int dim, const InitOptions& options,
   const double budget = options.max_factor_bytes > 0.0
                             ? options.max_factor_bytes
                             : 0.5 * PhysicalMemoryBytes();
-  if (budget > 0.0 && bytes > budget) {
-    char text[256];
+  if ((budget > 0.0 && bytes > budget) || flops > options.max_factor_flops) {
+    char text[320];
     std::snprintf(text, sizeof(text),
                   "the chordal initialization's sparse factor would have "
-                  "%.3g nonzeros (%s, %s ordering of %d nodes), more than "
-                  "the %s allowed; use another initialization (e.g. "
-                  "spanning_tree)",
-                  nonzeros, Gigabytes(bytes).c_str(), ordering.method.c_str(),
-                  n, Gigabytes(budget).c_str());
+                  "%.3g nonzeros (%s) and cost %.3g flops (%s ordering of %d "
+                  "nodes), more than the %s and %.3g flops allowed (loop "
+                  "closures between far-apart parts of the graph make the "
+                  "factor dense, and the optimizer's own factorization "
+                  "would be as costly)",
+                  nonzeros, Gigabytes(bytes).c_str(), flops,
+                  ordering.method.c_str(), n, Gigabytes(budget).c_str(),
+                  options.max_factor_flops);
     *error = text;
     return false;
   }

@@ -40,6 +40,11 @@ struct InitOptions {
   // (0: half the physical memory); a larger one fails with a message giving
   // its size instead of exhausting the memory.
   double max_factor_bytes = 0.0;
+  // Largest factorization cost, in flops (1e12: a few minutes; the 1M-node
+  // grid world of scripts/benchmark_load.py needs 5e9). Dense factors, as
+  // from loop closures between random times, fail with a message instead of
+  // running for hours.
+  double max_factor_flops = 1e12;
 };
 
 // Initializes the pose nodes (SE(2) or SE(3), not mixed) of the graph. If

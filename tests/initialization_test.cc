@@ -795,8 +795,9 @@ TEST(Initialization3DTest, SimplicialAndSupernodalBackendsAgree) {
       Pose3Key(0));
 }
 
-// A factor larger than the memory allowed stops the initialization with a
-// message giving its size, before anything is allocated or written.
+// A factor larger than the memory or costlier than the flops allowed stops
+// the initialization with a message giving its size, before anything is
+// allocated or written.
 TEST(InitializationTest, FactorLargerThanAllowedIsAClearError) {
   const auto gt = TwoLaps3(100);
   Graph graph;
@@ -811,12 +812,21 @@ TEST(InitializationTest, FactorLargerThanAllowedIsAClearError) {
   EXPECT_FALSE(
       InitializePoses(&graph, InitMethod::kChordal, &error, nullptr, options));
   EXPECT_NE(error.find("nonzeros"), std::string::npos) << error;
-  EXPECT_NE(error.find("spanning_tree"), std::string::npos) << error;
+  for (const auto& [key, node] : graph.nodes()) {
+    EXPECT_EQ(node->value, before.at(key));
+  }
+  // The same for a factorization costing more flops than allowed.
+  options.max_factor_bytes = 1e9;
+  options.max_factor_flops = 1000.0;
+  error.clear();
+  EXPECT_FALSE(
+      InitializePoses(&graph, InitMethod::kChordal, &error, nullptr, options));
+  EXPECT_NE(error.find("flops"), std::string::npos) << error;
   for (const auto& [key, node] : graph.nodes()) {
     EXPECT_EQ(node->value, before.at(key));
   }
   // With room for it the same graph initializes.
-  options.max_factor_bytes = 1e9;
+  options.max_factor_flops = 1e12;
   EXPECT_TRUE(
       InitializePoses(&graph, InitMethod::kChordal, &error, nullptr, options))
       << error;
