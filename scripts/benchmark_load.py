@@ -109,7 +109,7 @@ def simulated_graph(slam, name, world_yaml, num_poses, work):
         value = find_key(timing, key)
         if value is not None:
             row[column] = float(value)
-    row["result"] = tail(log, 1)
+    row["result"] = tail(log, 1).split("; total")[0]
     # Only the pose graph's own files are large: remove them right away.
     for file_name in os.listdir(out_dir):
         os.remove(os.path.join(out_dir, file_name))
@@ -268,7 +268,7 @@ def main():
         for key in ("sim_s", "load_s", "init_s", "solve_s", "total_s",
                     "cpu_s", "peak_gb"):
             if isinstance(row.get(key), float):
-                row[key] = round(row[key], 2)
+                row[key] = "%.2f" % row[key]
     markdown, csv_text = run_benchmarks.tables(rows, COLUMNS)
     print(markdown)
     print(csv_text)
