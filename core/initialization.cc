@@ -375,10 +375,9 @@ bool PlanSolve(const PoseGraphView& view, int dim, const InitOptions& options,
     std::snprintf(text, sizeof(text),
                   "the chordal initialization's sparse factor would have "
                   "%.3g nonzeros (%s) and cost %.3g flops (%s ordering of %d "
-                  "nodes), more than the %s and %.3g flops allowed (loop "
-                  "closures between far-apart parts of the graph make the "
-                  "factor dense, and the optimizer's own factorization "
-                  "would be as costly)",
+                  "nodes), more than the %s and %.3g flops allowed (dense "
+                  "loop closures fill the factor; the optimizer's own "
+                  "factorization would cost even more)",
                   nonzeros, Gigabytes(bytes).c_str(), flops,
                   ordering.method.c_str(), n, Gigabytes(budget).c_str(),
                   options.max_factor_flops);
