@@ -1,16 +1,21 @@
 #include "core/initialization.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <deque>
 #include <map>
 #include <numeric>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
+#include <unistd.h>
+#include <Eigen/CholmodSupport>
 #include <Eigen/Core>
 #include <Eigen/SVD>
 #include <Eigen/SparseCholesky>
-
 #include <Eigen/SparseCore>
+
 #include "core/lie.h"
 #include "core/ordering.h"
 
@@ -178,33 +183,77 @@ struct LinearTerm {
   Eigen::Matrix<double, D, M> C;
 };
 
-// The unknowns are numbered in a fill-reducing order of the node graph
-// (`order`, from CHOLMOD's AMD on nodes: several times cheaper than Eigen's
-// AMD on the scalar system), so the factorization keeps that order.
-using SparseLdlt =
-    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower,
-                          Eigen::NaturalOrdering<int>>;
-
-// `solver` keeps the symbolic analysis between calls with the same terms
-// pattern (the rotation and translation systems share it): pass
-// *analyzed = false the first time.
-template <int D, int M>
-bool SolveLinear(const std::vector<LinearTerm<D, M>>& terms,
-                 const std::vector<bool>& known, const std::vector<int>& order,
-                 std::vector<Eigen::Matrix<double, D, M>>* x,
-                 SparseLdlt* solver, bool* analyzed, std::string* error) {
-  using MatD = Eigen::Matrix<double, D, D>;
-  const int n = static_cast<int>(known.size());
-  std::vector<int> col(n, -1);
-  int num_unknown = 0;
-  for (int i : order) {
-    if (!known[i]) col[i] = D * num_unknown++;
+// The normal equations' solver. The unknowns are numbered in a
+// fill-reducing order of the node graph (`order`, from CHOLMOD on nodes:
+// several times cheaper than ordering the scalar system), so both backends
+// keep that order:
+//   kSimplicial   Eigen's simplicial LDLT (int indices): on small, sparse
+//                 factors it beats CHOLMOD's per-call set-up (measured:
+//                 torus3D 0.18 s vs 0.24 s for the whole initialization,
+//                 city10000 0.11 s vs 0.21 s).
+//   kSupernodal   CHOLMOD's supernodal LL^T with 64-bit indices: dense
+//                 factors (many loop closures) run on BLAS kernels, and
+//                 factors beyond 2^31 nonzeros, which overflow Eigen's int
+//                 indices, still fit.
+class NormalEquationsSolver {
+ public:
+  explicit NormalEquationsSolver(LinearBackend backend) : backend_(backend) {
+    if (backend_ == LinearBackend::kSupernodal) {
+      cholmod_.cholmod().nmethods = 1;
+      cholmod_.cholmod().method[0].ordering = CHOLMOD_NATURAL;
+    }
   }
-  if (num_unknown == 0) return true;
-  std::vector<Eigen::Triplet<double>> triplets;
+  LinearBackend backend() const { return backend_; }
+
+  // Factors h (full symmetric, scalar unknowns in elimination order); the
+  // symbolic analysis of the first call is kept for later calls with the
+  // same pattern (the rotation and translation systems share it).
+  template <typename Index>
+  bool Factorize(const Eigen::SparseMatrix<double, Eigen::ColMajor, Index>& h) {
+    if constexpr (std::is_same_v<Index, int>) {
+      if (!analyzed_) eigen_.analyzePattern(h);
+      analyzed_ = true;
+      eigen_.factorize(h);
+      return eigen_.info() == Eigen::Success;
+    } else {
+      if (!analyzed_) cholmod_.analyzePattern(h);
+      analyzed_ = true;
+      cholmod_.factorize(h);
+      return cholmod_.info() == Eigen::Success;
+    }
+  }
+  bool Solve(const Eigen::MatrixXd& rhs, Eigen::MatrixXd* x) {
+    if (backend_ == LinearBackend::kSimplicial) {
+      *x = eigen_.solve(rhs);
+      return eigen_.info() == Eigen::Success && x->allFinite();
+    }
+    *x = cholmod_.solve(rhs);
+    return cholmod_.info() == Eigen::Success && x->allFinite();
+  }
+
+ private:
+  using LongMatrix =
+      Eigen::SparseMatrix<double, Eigen::ColMajor, SuiteSparse_long>;
+  LinearBackend backend_;
+  bool analyzed_ = false;
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower,
+                        Eigen::NaturalOrdering<int>>
+      eigen_;
+  Eigen::CholmodSupernodalLLT<LongMatrix, Eigen::Lower> cholmod_;
+};
+
+// Assembles and factors the normal equations of the terms (Index: the
+// backend's index type), then solves for the M columns.
+template <typename Index, int D, int M>
+bool SolveNormalEquations(const std::vector<LinearTerm<D, M>>& terms,
+                          const std::vector<bool>& known,
+                          const std::vector<int>& col, int num_unknown,
+                          std::vector<Eigen::Matrix<double, D, M>>* x,
+                          NormalEquationsSolver* solver, std::string* error) {
+  using MatD = Eigen::Matrix<double, D, D>;
+  std::vector<Eigen::Triplet<double, Index>> triplets;
   triplets.reserve(terms.size() * 4 * D * D);
-  Eigen::Matrix<double, Eigen::Dynamic, M> rhs =
-      Eigen::Matrix<double, Eigen::Dynamic, M>::Zero(D * num_unknown, M);
+  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(D * num_unknown, M);
   for (const LinearTerm<D, M>& t : terms) {
     Eigen::Matrix<double, D, M> c = t.C;
     if (known[t.a]) c += t.A_a * (*x)[t.a];
@@ -214,7 +263,7 @@ bool SolveLinear(const std::vector<LinearTerm<D, M>>& terms,
     for (int p = 0; p < 2; ++p) {
       if (known[idx[p]]) continue;
       const MatD atw = blocks[p]->transpose() * t.W;
-      rhs.template middleRows<D>(col[idx[p]]) -= atw * c;
+      rhs.middleRows<D>(col[idx[p]]) -= atw * c;
       for (int q = 0; q < 2; ++q) {
         if (known[idx[q]]) continue;
         const MatD h = atw * *blocks[q];
@@ -226,27 +275,123 @@ bool SolveLinear(const std::vector<LinearTerm<D, M>>& terms,
       }
     }
   }
-  Eigen::SparseMatrix<double> h(D * num_unknown, D * num_unknown);
+  Eigen::SparseMatrix<double, Eigen::ColMajor, Index> h(D * num_unknown,
+                                                        D * num_unknown);
   h.setFromTriplets(triplets.begin(), triplets.end());
-  // Eigen's simplicial LDLT (AMD ordering): on these one-off solves it beats
-  // CHOLMOD's per-call set-up (measured: torus3D 0.18 s vs 0.24 s for the
-  // whole initialization, city10000 0.11 s vs 0.21 s).
-  if (!*analyzed) {
-    solver->analyzePattern(h);
-    *analyzed = true;
-  }
-  solver->factorize(h);
-  if (solver->info() != Eigen::Success) {
+  std::vector<Eigen::Triplet<double, Index>>().swap(triplets);
+  if (!solver->Factorize(h)) {
     *error = "the linear system of the chordal initialization is singular";
     return false;
   }
-  const Eigen::MatrixXd sol = solver->solve(Eigen::MatrixXd(rhs));
-  if (solver->info() != Eigen::Success || !sol.allFinite()) {
+  Eigen::MatrixXd sol;
+  if (!solver->Solve(rhs, &sol)) {
     *error = "the linear system of the chordal initialization has no solution";
     return false;
   }
-  for (int i = 0; i < n; ++i) {
-    if (!known[i]) (*x)[i] = sol.template middleRows<D>(col[i]);
+  for (size_t i = 0; i < known.size(); ++i) {
+    if (!known[i]) (*x)[i] = sol.middleRows<D>(col[i]);
+  }
+  return true;
+}
+
+template <int D, int M>
+bool SolveLinear(const std::vector<LinearTerm<D, M>>& terms,
+                 const std::vector<bool>& known, const std::vector<int>& order,
+                 std::vector<Eigen::Matrix<double, D, M>>* x,
+                 NormalEquationsSolver* solver, std::string* error) {
+  const int n = static_cast<int>(known.size());
+  std::vector<int> col(n, -1);
+  int num_unknown = 0;
+  for (int i : order) {
+    if (!known[i]) col[i] = D * num_unknown++;
+  }
+  if (num_unknown == 0) return true;
+  if (solver->backend() == LinearBackend::kSimplicial) {
+    return SolveNormalEquations<int>(terms, known, col, num_unknown, x, solver,
+                                     error);
+  }
+  return SolveNormalEquations<SuiteSparse_long>(terms, known, col, num_unknown,
+                                                x, solver, error);
+}
+
+// METIS costs a few microseconds per node; when AMD's factorization would
+// cost more than about 2000 flops per scalar unknown (a fraction of a second
+// per 100k nodes) METIS is tried as well, and the order with fewer flops
+// kept: on grid-like and spherical graphs it cuts the flops 2-5 times
+// (100k-node grid2d world, 100 x 100 lattice: 5.2x).
+constexpr double kTryMetisFlopsPerUnknown = 2000.0;
+// Above ~150 flops per factor entry CHOLMOD's supernodal kernels beat the
+// simplicial factorization (the optimizer's measure, core/optimizer.cc); above
+// 2^27 nonzeros the simplicial one is slow anyway and near Eigen's int limit.
+constexpr double kSupernodalFlopsPerEntry = 150.0;
+constexpr double kSimplicialMaxNonzeros = 134217728.0;
+
+double PhysicalMemoryBytes() {
+  const long pages = sysconf(_SC_PHYS_PAGES);
+  const long page_size = sysconf(_SC_PAGESIZE);
+  return pages > 0 && page_size > 0
+             ? static_cast<double>(pages) * static_cast<double>(page_size)
+             : 0.0;
+}
+
+std::string Gigabytes(double bytes) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.1f GB", bytes / 1e9);
+  return text;
+}
+
+// Elimination order of the nodes and the backend for D x D blocks, from
+// CHOLMOD's symbolic analysis of the node graph; fails with a message when
+// the factor would not fit in options.max_factor_bytes.
+bool PlanSolve(const PoseGraphView& view, int dim, const InitOptions& options,
+               std::vector<int>* order, LinearBackend* backend,
+               std::string* error) {
+  const int n = static_cast<int>(view.nodes.size());
+  std::vector<std::pair<int, int>> node_edges;
+  node_edges.reserve(view.edges.size());
+  for (const auto& edge : view.edges) node_edges.emplace_back(edge.a, edge.b);
+  OrderingResult ordering;
+  if (!FillReducingOrdering(n, node_edges, "amd", &ordering, error)) {
+    return false;
+  }
+  if (ordering.factor_flops * dim * dim >
+      kTryMetisFlopsPerUnknown * static_cast<double>(n)) {
+    OrderingResult metis;
+    if (!FillReducingOrdering(n, node_edges, "metis", &metis, error)) {
+      return false;
+    }
+    if (metis.factor_flops < ordering.factor_flops) ordering = std::move(metis);
+  }
+  *order = std::move(ordering.order);
+  // Scalar factor: D x D blocks per node-level entry.
+  const double nonzeros = ordering.factor_nonzeros * dim * dim;
+  const double flops = ordering.factor_flops * dim * dim * dim;
+  const double bytes = nonzeros * sizeof(double);
+  const double budget = options.max_factor_bytes > 0.0
+                            ? options.max_factor_bytes
+                            : 0.5 * PhysicalMemoryBytes();
+  if ((budget > 0.0 && bytes > budget) || flops > options.max_factor_flops) {
+    char text[320];
+    std::snprintf(text, sizeof(text),
+                  "the chordal initialization's sparse factor would have "
+                  "%.3g nonzeros (%s) and cost %.3g flops (%s ordering of %d "
+                  "nodes), more than the %s and %.3g flops allowed (dense "
+                  "loop closures fill the factor; the optimizer's own "
+                  "factorization would cost even more)",
+                  nonzeros, Gigabytes(bytes).c_str(), flops,
+                  ordering.method.c_str(), n, Gigabytes(budget).c_str(),
+                  options.max_factor_flops);
+    *error = text;
+    return false;
+  }
+  if (options.backend != LinearBackend::kAuto) {
+    *backend = options.backend;
+  } else {
+    const double flops_per_entry = nonzeros > 0.0 ? flops / nonzeros : 0.0;
+    *backend = flops_per_entry > kSupernodalFlopsPerEntry ||
+                       nonzeros > kSimplicialMaxNonzeros
+                   ? LinearBackend::kSupernodal
+                   : LinearBackend::kSimplicial;
   }
   return true;
 }
@@ -301,8 +446,8 @@ bool RefineRotations(const PoseGraphView& view,
                      const std::vector<Eigen::Matrix3d>& measured,
                      const std::vector<bool>& anchor,
                      const std::vector<int>& order,
-                     std::vector<Eigen::Matrix3d>* rot, SparseLdlt* solver,
-                     bool* analyzed, std::string* error) {
+                     std::vector<Eigen::Matrix3d>* rot,
+                     NormalEquationsSolver* solver, std::string* error) {
   const int n = static_cast<int>(view.nodes.size());
   std::vector<LinearTerm<3, 1>> terms(view.edges.size());
   for (int it = 0; it < kRotationRefinementIterations; ++it) {
@@ -324,8 +469,7 @@ bool RefineRotations(const PoseGraphView& view,
       t.C = r0;
     }
     std::vector<Eigen::Vector3d> delta(n, Eigen::Vector3d::Zero());
-    if (!SolveLinear<3, 1>(terms, anchor, order, &delta, solver, analyzed,
-                           error)) {
+    if (!SolveLinear<3, 1>(terms, anchor, order, &delta, solver, error)) {
       return false;
     }
     for (int i = 0; i < n; ++i) {
@@ -342,7 +486,7 @@ bool RefineRotations(const PoseGraphView& view,
 // constraint R_z^T X_a - X_b = 0 (M = 3, one column per row of R_k).
 template <int D>
 bool ChordalImpl(const PoseGraphView& view, const std::vector<bool>& anchor,
-                 std::string* error) {
+                 const InitOptions& options, std::string* error) {
   constexpr int M = D == 3 ? 3 : 1;
   using MatD = Eigen::Matrix<double, D, D>;
   using VecD = Eigen::Matrix<double, D, 1>;
@@ -379,17 +523,11 @@ bool ChordalImpl(const PoseGraphView& view, const std::vector<bool>& anchor,
     t.W = MatD::Identity() * std::max(w, 1e-12);
     t.C.setZero();
   }
-  std::vector<std::pair<int, int>> node_edges;
-  node_edges.reserve(view.edges.size());
-  for (const auto& edge : view.edges) node_edges.emplace_back(edge.a, edge.b);
-  OrderingResult ordering;
-  if (!FillReducingOrdering(n, node_edges, "amd", &ordering, error)) {
-    return false;
-  }
-  const std::vector<int>& order = ordering.order;
-  SparseLdlt solver;
-  bool analyzed = false;
-  if (!SolveLinear<D, M>(terms, anchor, order, &x, &solver, &analyzed, error)) {
+  std::vector<int> order;
+  LinearBackend backend;
+  if (!PlanSolve(view, D, options, &order, &backend, error)) return false;
+  NormalEquationsSolver solver(backend);
+  if (!SolveLinear<D, M>(terms, anchor, order, &x, &solver, error)) {
     return false;
   }
   std::vector<MatD> rot(n);
@@ -403,8 +541,7 @@ bool ChordalImpl(const PoseGraphView& view, const std::vector<bool>& anchor,
     }
   }
   if constexpr (D == 3) {
-    if (!RefineRotations(view, measured, anchor, order, &rot, &solver,
-                         &analyzed, error)) {
+    if (!RefineRotations(view, measured, anchor, order, &rot, &solver, error)) {
       return false;
     }
   }
@@ -429,8 +566,7 @@ bool ChordalImpl(const PoseGraphView& view, const std::vector<bool>& anchor,
     term.W = raz * info_t * raz.transpose();
     term.C = -ra * edge.factor->measurement.head<D>();
   }
-  if (!SolveLinear<D, 1>(tterms, anchor, order, &t, &solver, &analyzed,
-                         error)) {
+  if (!SolveLinear<D, 1>(tterms, anchor, order, &t, &solver, error)) {
     return false;
   }
   for (int i = 0; i < n; ++i) {
@@ -450,9 +586,9 @@ bool ChordalImpl(const PoseGraphView& view, const std::vector<bool>& anchor,
 }
 
 bool Chordal(const PoseGraphView& view, const std::vector<bool>& anchor,
-             std::string* error) {
-  return view.is_3d ? ChordalImpl<3>(view, anchor, error)
-                    : ChordalImpl<2>(view, anchor, error);
+             const InitOptions& options, std::string* error) {
+  return view.is_3d ? ChordalImpl<3>(view, anchor, options, error)
+                    : ChordalImpl<2>(view, anchor, options, error);
 }
 
 }  // namespace
@@ -483,7 +619,7 @@ bool ParseInitMethod(const std::string& text, InitMethod* method) {
 }
 
 bool InitializePoses(Graph* graph, InitMethod method, std::string* error,
-                     const std::set<Key>* only) {
+                     const std::set<Key>* only, const InitOptions& options) {
   if (method == InitMethod::kNone) return true;
   PoseGraphView view;
   if (!BuildView(graph, only, &view, error)) return false;
@@ -497,7 +633,7 @@ bool InitializePoses(Graph* graph, InitMethod method, std::string* error,
       BreadthFirst(view, &anchor);
       return true;
     case InitMethod::kChordal:
-      return Chordal(view, anchor, error);
+      return Chordal(view, anchor, options, error);
     case InitMethod::kNone:
       break;
   }

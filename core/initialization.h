@@ -28,12 +28,32 @@ enum class InitMethod { kNone, kOdometry, kSpanningTree, kChordal };
 const char* InitMethodName(InitMethod method);
 bool ParseInitMethod(const std::string& text, InitMethod* method);
 
+// How the chordal initialization solves its sparse linear systems: kAuto
+// picks from CHOLMOD's symbolic analysis of the node graph (Eigen's
+// simplicial LDL^T for sparse factors, CHOLMOD's supernodal LL^T with 64-bit
+// indices for dense or huge ones); the others force a backend (tests).
+enum class LinearBackend { kAuto, kSimplicial, kSupernodal };
+
+struct InitOptions {
+  LinearBackend backend = LinearBackend::kAuto;
+  // Largest sparse factor the chordal initialization may allocate, in bytes
+  // (0: half the physical memory); a larger one fails with a message giving
+  // its size instead of exhausting the memory.
+  double max_factor_bytes = 0.0;
+  // Largest factorization cost, in flops (1e12: a few minutes; the 1M-node
+  // grid world of scripts/benchmark_load.py needs 5e9). Dense factors, as
+  // from loop closures between random times, fail with a message instead of
+  // running for hours.
+  double max_factor_flops = 1e12;
+};
+
 // Initializes the pose nodes (SE(2) or SE(3), not mixed) of the graph. If
 // `only` is given, only those nodes are written (the others act as already
 // known). Returns false with *error when the graph mixes SE(2) and SE(3)
-// between factors or a linear system cannot be solved.
+// between factors or a linear system cannot be solved or does not fit.
 bool InitializePoses(Graph* graph, InitMethod method, std::string* error,
-                     const std::set<Key>* only = nullptr);
+                     const std::set<Key>* only = nullptr,
+                     const InitOptions& options = InitOptions());
 
 }  // namespace slam
 

@@ -4,6 +4,7 @@
 // starting values; fixed nodes, disconnected components and the `only`
 // argument are honoured; with noisy measurements the chordal relaxation is
 // far better than odometry on a long loop and leads LM to the optimum.
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <random>
@@ -599,8 +600,7 @@ TEST(Initialization3DTest, ChordalRotationsFollowAnisotropicInformation) {
     Eigen::Vector3d plain_mean = Eigen::Vector3d::Zero();
     build(&graph, &plain_mean);
     std::string error;
-    ASSERT_TRUE(InitializePoses(&graph, InitMethod::kChordal, &error))
-        << error;
+    ASSERT_TRUE(InitializePoses(&graph, InitMethod::kChordal, &error)) << error;
     const Eigen::Vector3d initial =
         QuaternionLog<double>(NodePose3(*graph.FindNode(Pose3Key(1))).q);
     OptimizerOptions options = TightOptions();
@@ -617,7 +617,6 @@ TEST(Initialization3DTest, ChordalRotationsFollowAnisotropicInformation) {
     EXPECT_GT(plain_mean_error, 0.01) << "seed " << seed;
   }
 }
-
 
 // Two laps of a circle (second lap revisits the first: loop closures), the
 // kind of long loop where odometry drifts.
@@ -727,6 +726,110 @@ TEST(Initialization3DTest, NoisyLongLoopChordalBeatsOdometry) {
   EXPECT_LT(r.chordal_chi2, 0.02 * r.odometry_chi2)
       << "chordal " << r.chordal_chi2 << " odometry " << r.odometry_chi2;
   EXPECT_NEAR(r.from_chordal_chi2, r.reference_chi2, 1e-9 * r.reference_chi2);
+}
+
+// The two linear backends of the chordal initialization (Eigen's simplicial
+// LDL^T with int indices, CHOLMOD's supernodal LL^T with 64-bit indices, the
+// one large graphs take) solve the same systems: on a noisy graph, where the
+// relaxation's answer is not the ground truth, they must agree to rounding.
+template <typename AddGraphFn>
+void ExpectBackendsAgree(const AddGraphFn& add_graph, const Key& first) {
+  std::vector<std::vector<double>> values[2];
+  const LinearBackend backends[2] = {LinearBackend::kSimplicial,
+                                     LinearBackend::kSupernodal};
+  for (int b = 0; b < 2; ++b) {
+    Graph graph;
+    add_graph(&graph);
+    ResetAllBut(&graph, {first});
+    InitOptions options;
+    options.backend = backends[b];
+    std::string error;
+    ASSERT_TRUE(
+        InitializePoses(&graph, InitMethod::kChordal, &error, nullptr, options))
+        << error;
+    for (const auto& [key, node] : graph.nodes()) {
+      values[b].push_back(node->value);
+    }
+  }
+  ASSERT_EQ(values[0].size(), values[1].size());
+  double max_diff = 0.0;
+  for (size_t i = 0; i < values[0].size(); ++i) {
+    for (size_t k = 0; k < values[0][i].size(); ++k) {
+      max_diff =
+          std::max(max_diff, std::abs(values[0][i][k] - values[1][i][k]));
+    }
+  }
+  EXPECT_LT(max_diff, 1e-9);
+  // The answer is not the starting point: the backends did the solving.
+  Graph reset;
+  add_graph(&reset);
+  ResetAllBut(&reset, {first});
+  double moved = 0.0;
+  size_t i = 0;
+  for (const auto& [key, node] : reset.nodes()) {
+    for (size_t k = 0; k < node->value.size(); ++k) {
+      moved = std::max(moved, std::abs(node->value[k] - values[1][i][k]));
+    }
+    ++i;
+  }
+  EXPECT_GT(moved, 1.0);
+}
+
+TEST(Initialization2DTest, SimplicialAndSupernodalBackendsAgree) {
+  const auto gt = TwoLaps2(150);
+  ExpectBackendsAgree(
+      [&](Graph* graph) {
+        Rng rng(14);
+        AddGraph2(gt, TwoLapEdges(150), 0.05, 0.02, &rng, graph);
+      },
+      Pose2Key(0));
+}
+
+TEST(Initialization3DTest, SimplicialAndSupernodalBackendsAgree) {
+  const auto gt = TwoLaps3(100);
+  ExpectBackendsAgree(
+      [&](Graph* graph) {
+        Rng rng(15);
+        AddGraph3(gt, TwoLapEdges(100), 0.05, 0.02, &rng, graph);
+      },
+      Pose3Key(0));
+}
+
+// A factor larger than the memory or costlier than the flops allowed stops
+// the initialization with a message giving its size, before anything is
+// allocated or written.
+TEST(InitializationTest, FactorLargerThanAllowedIsAClearError) {
+  const auto gt = TwoLaps3(100);
+  Graph graph;
+  Rng rng(16);
+  AddGraph3(gt, TwoLapEdges(100), 0.05, 0.02, &rng, &graph);
+  ResetAllBut(&graph, {Pose3Key(0)});
+  std::map<Key, std::vector<double>> before;
+  for (const auto& [key, node] : graph.nodes()) before[key] = node->value;
+  InitOptions options;
+  options.max_factor_bytes = 1000.0;
+  std::string error;
+  EXPECT_FALSE(
+      InitializePoses(&graph, InitMethod::kChordal, &error, nullptr, options));
+  EXPECT_NE(error.find("nonzeros"), std::string::npos) << error;
+  for (const auto& [key, node] : graph.nodes()) {
+    EXPECT_EQ(node->value, before.at(key));
+  }
+  // The same for a factorization costing more flops than allowed.
+  options.max_factor_bytes = 1e9;
+  options.max_factor_flops = 1000.0;
+  error.clear();
+  EXPECT_FALSE(
+      InitializePoses(&graph, InitMethod::kChordal, &error, nullptr, options));
+  EXPECT_NE(error.find("flops"), std::string::npos) << error;
+  for (const auto& [key, node] : graph.nodes()) {
+    EXPECT_EQ(node->value, before.at(key));
+  }
+  // With room for it the same graph initializes.
+  options.max_factor_flops = 1e12;
+  EXPECT_TRUE(
+      InitializePoses(&graph, InitMethod::kChordal, &error, nullptr, options))
+      << error;
 }
 
 }  // namespace
