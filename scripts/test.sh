@@ -11,6 +11,10 @@
 #      $SLAM_FUZZ_SECONDS each (default 30), two at a time.
 # Any test failure, sanitizer report or fuzz finding fails the run.
 # SLAM_RELIABILITY=0 skips stages 2 and 3 (local runs); CI runs them.
+# Cold cache (no ccache, fresh build folders), quiet 2-core wall estimated
+# from CPU time (README "Reliability"): 1. build 4.7 min + tests ~5 min;
+# 2. build 16.1 min CPU (~8 min) + tests 14.2 min CPU (~7 min); 3. ~2.7 min.
+# About 28 minutes in all (CI's hard limit: 90).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install_deps.sh
