@@ -67,9 +67,14 @@ std::vector<Eigen::Vector3d> ScatterLandmarks(const SimulationConfig& config,
   const std::string& type = config.world.type;
   if (type == "stereo" || type == "monocular") {
     while (static_cast<int>(points.size()) < lm.num_landmarks) {
-      const Eigen::Vector3d p(random->Uniform(-1.0, 1.0),
-                              random->Uniform(-1.0, 1.0),
-                              random->Uniform(-1.0, 1.0));
+      // One draw per statement: the order in which a compiler evaluates
+      // constructor arguments is unspecified (gcc goes right to left, clang
+      // left to right), which gave other landmarks per compiler. z, y, x is
+      // gcc's order, so the data of the Release build stays as it was.
+      const double z = random->Uniform(-1.0, 1.0);
+      const double y = random->Uniform(-1.0, 1.0);
+      const double x = random->Uniform(-1.0, 1.0);
+      const Eigen::Vector3d p(x, y, z);
       if (p.squaredNorm() <= 1.0) points.push_back(lm.field_radius * p);
     }
     return points;

@@ -471,8 +471,12 @@ bool Simulate(const SimulationConfig& config, SimulationResult* result,
                                                : config.loop_closures.noise;
     if (truth.is_3d) {
       if (edge.kind == Edge::kOutlier) {
-        const Eigen::Vector3d t(random.Uniform(-a, a), random.Uniform(-a, a),
-                                random.Uniform(-a, a));
+        // One draw per statement (argument order is unspecified; z, y, x
+        // is what gcc did, see ScatterLandmarks in landmark_simulator.cc).
+        const double tz = random.Uniform(-a, a);
+        const double ty = random.Uniform(-a, a);
+        const double tx = random.Uniform(-a, a);
+        const Eigen::Vector3d t(tx, ty, tz);
         z3[e] = Pose3(t, random.UniformRotation());
       } else {
         z3[e] = truth.poses3[edge.i].Inverse() * truth.poses3[edge.j] *

@@ -2,27 +2,23 @@
 # Runs every libFuzzer target of fuzz/ for a while, from a seed corpus made of
 # the tiny fixtures in tests/data and the shipped configs.
 #
-#   bash scripts/fuzz.sh [SECONDS_PER_TARGET (30)] [BUILD_DIR (build_fuzz)]
+#   bash scripts/fuzz.sh [SECONDS_PER_TARGET (30)]
 #
-# Builds the targets first (clang, -DSLAM_FUZZ=ON: ASan + UBSan + libFuzzer).
-# $SLAM_FUZZ_TARGETS picks some of them (default: all).
+# The targets live in the sanitizer build (build_asan/, built first by
+# scripts/sanitizer_build.sh: clang, ASan + UBSan + libFuzzer coverage).
+# $SLAM_FUZZ_TARGETS picks some of them (default: all); $SLAM_JOBS of them
+# (default 2) run at once, one core each.
 # The corpus grows in a temporary folder (never in the repository); a crash
-# leaves its input as BUILD_DIR/fuzz_artifacts/crash-* and fails the script.
+# leaves its input as build_asan/fuzz_artifacts/crash-* and fails the script.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds="${1:-30}"
-build="${2:-build_fuzz}"
+build="${SLAM_ASAN_BUILD:-build_asan}"
 jobs="${SLAM_JOBS:-2}"
 data=tests/data
 read -r -a targets <<< "${SLAM_FUZZ_TARGETS:-g2o toro isam trajectory relations carmen imu stereo_vo config}"
 
-launcher=()
-if command -v ccache > /dev/null; then
-  launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
-fi
-cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER=clang++ \
-  -DSLAM_FUZZ=ON -DSLAM_BUILD_TESTS=OFF "${launcher[@]}" > /dev/null
-cmake --build "$build" -j "$jobs" --target "${targets[@]/#/fuzz_}"
+bash scripts/sanitizer_build.sh "${targets[@]/#/fuzz_}"
 
 work="$(mktemp -d "${TMPDIR:-/tmp}/slam_fuzz_corpus.XXXXXX")"
 trap 'rm -rf "$work"' EXIT
@@ -74,20 +70,34 @@ done
 fuzz_tmp="${TMPDIR:-/tmp}"
 if [ -d /dev/shm ] && [ -w /dev/shm ]; then fuzz_tmp=/dev/shm; fi
 
+# fuzz_one TARGET: runs fuzz_TARGET for $seconds; prints its summary line.
+fuzz_one() {
+  local target="$1" log="$work/$1.log" units
+  mkdir -p "$work/$target/corpus"
+  if TMPDIR="$fuzz_tmp" "$build/fuzz/fuzz_$target" -max_total_time="$seconds" \
+      -timeout=10 -rss_limit_mb=2048 -max_len=16384 -print_final_stats=1 \
+      -artifact_prefix="$artifacts/" "$work/$target/corpus" \
+      "$work/$target/seeds" > "$log" 2>&1; then
+    units="$(grep -E '^stat::number_of_executed_units' "$log" | awk '{print $2}')"
+    echo "  ok      fuzz_$target (${units:-?} inputs in ${seconds} s)"
+  else
+    touch "$work/$target.failed"
+    echo "  FAILED  fuzz_$target"
+    tail -n 40 "$log"
+    return 1
+  fi
+}
+export -f fuzz_one
+export work build seconds artifacts fuzz_tmp
+
+echo "fuzz: ${#targets[@]} targets, ${seconds} s each, ${jobs} at a time"
+start=$SECONDS
+printf '%s\n' "${targets[@]}" | xargs -P "$jobs" -I{} bash -c 'fuzz_one {}' ||
+  true
+echo "fuzz: took $((SECONDS - start)) s"
 failed=()
 for target in "${targets[@]}"; do
-  mkdir -p "$work/$target/corpus"
-  echo "fuzz_$target: ${seconds} s"
-  if ! TMPDIR="$fuzz_tmp" "$build/fuzz/fuzz_$target" -max_total_time="$seconds" -timeout=10 \
-      -rss_limit_mb=2048 -max_len=16384 -print_final_stats=1 \
-      -artifact_prefix="$artifacts/" "$work/$target/corpus" \
-      "$work/$target/seeds" > "$work/$target.log" 2>&1; then
-    failed+=("$target")
-    tail -n 40 "$work/$target.log"
-  fi
-  grep -E "^stat::number_of_executed_units|^stat::peak_rss_mb" \
-    "$work/$target.log" | tr '\n' ' ' || true
-  echo
+  if [ -e "$work/$target.failed" ]; then failed+=("$target"); fi
 done
 if [ ${#failed[@]} -gt 0 ]; then
   echo "fuzz: FAILED: ${failed[*]} (inputs in $artifacts)"

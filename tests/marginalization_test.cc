@@ -128,18 +128,30 @@ TEST(MarginalizationTest, LinearProblemMatchesFullEstimateAndCovariance) {
 // measurements with noise of std `noise` (0: consistent measurements).
 void BuildPoseGraph(Graph* graph, int n, unsigned seed, double noise = 0.05) {
   TestRng rng(seed);
+  // One draw per statement: the order in which a compiler evaluates
+  // function arguments is unspecified (gcc right to left, clang left to
+  // right), and the graph must be the same under both (the sanitizer build
+  // uses clang). The order below is the one gcc used.
+  auto normal3 = [&rng]() {
+    const double z = rng.Normal();
+    const double y = rng.Normal();
+    const double x = rng.Normal();
+    return Eigen::Vector3d(x, y, z);
+  };
   std::vector<Pose3> truth;
   Pose3 x;
   for (int i = 0; i < n; ++i) {
     truth.push_back(x);
-    x = x * Pose3(Eigen::Vector3d(1.0, 0.2 * rng.Normal(), 0.1 * rng.Normal()),
-                  QuaternionExp<double>(Eigen::Vector3d(0.05, 0.05, 0.4) +
-                                        0.05 * rng.Normal3()));
+    const Eigen::Vector3d w =
+        Eigen::Vector3d(0.05, 0.05, 0.4) + 0.05 * normal3();
+    const double tz = 0.1 * rng.Normal();
+    const double ty = 0.2 * rng.Normal();
+    x = x * Pose3(Eigen::Vector3d(1.0, ty, tz), QuaternionExp<double>(w));
   }
   auto noisy = [&](const Pose3& p, double s) {
-    return Pose3(
-        p.t + s * rng.Normal3(),
-        p.q * QuaternionExp<double>(Eigen::Vector3d(s * rng.Normal3())));
+    const Eigen::Vector3d dq = s * normal3();
+    const Eigen::Vector3d dt = s * normal3();
+    return Pose3(p.t + dt, p.q * QuaternionExp<double>(dq));
   };
   for (int i = 0; i < n; ++i) {
     graph->AddNode(Pose3Key(i), Pose3Value(noisy(truth[i], 0.1)));
