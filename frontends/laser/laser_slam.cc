@@ -73,6 +73,14 @@ IcpPrior LaserSlam::OdometryPrior(const Pose2& pose, const Pose2& odom_from,
   return prior;
 }
 
+void LaserSlam::NoteCorrection(const Pose2& before, const Pose2& after) {
+  stats_.largest_correction_m =
+      std::max(stats_.largest_correction_m, (after.t - before.t).norm());
+  stats_.largest_correction_deg = std::max(
+      stats_.largest_correction_deg,
+      std::abs(NormalizeAngle(after.theta - before.theta)) * 180.0 / M_PI);
+}
+
 Pose2 LaserSlam::KeyframePose(size_t k) const {
   return NodePose2(*graph_.FindNode(Pose2Key(static_cast<int64_t>(k))));
 }
@@ -117,41 +125,108 @@ void LaserSlam::AddScan(const LaserScan& scan) {
     return;
   }
 
-  path_ += (scan.odom.t - last_odom_.t).norm();
-  const Pose2 predicted = tracked_ * (last_odom_.Inverse() * scan.odom);
+  const Pose2 odom_step = last_odom_.Inverse() * scan.odom;
+  const Pose2 predicted = tracked_ * odom_step;
   const IcpPrior prior = OdometryPrior(predicted, last_odom_, scan.odom);
   const IcpPrior* tracking_prior =
       config_.tracking_odometry_weight > 0 ? &prior : nullptr;
   last_odom_ = scan.odom;
+  const double jump = config_.max_tracking_jump;
+  // The constant-velocity prediction: the last tracked increment again.
+  const Pose2 cv_predicted = tracked_ * velocity_;
+  // No robot changes its motion between two scans by a tracking jump: such
+  // an odometry increment is wrong (a jump, the catch-up after a freeze).
+  const bool odometry_implausible =
+      config_.robust_tracking && scans_.size() >= 2 &&
+      !SmallMotion(odom_step, velocity_, jump, jump);
   MatchResult match;
   bool matched = false;
+  bool odometry_rejected = false;
   if (points.size() >= 10 && !local_submap_.empty()) {
-    const double jump = config_.max_tracking_jump;
-    auto good = [&](const MatchResult& m, double scale) {
+    auto good = [&](const MatchResult& m, const Pose2& from, double scale) {
       return m.success && m.fitness >= config_.min_tracking_fitness &&
-             SmallMotion(m.pose, predicted, scale * jump, scale * jump);
+             SmallMotion(m.pose, from, scale * jump, scale * jump);
+    };
+    // A match fits well when its fitness is not far below the recent ones.
+    auto fits_well = [&](const MatchResult& m) {
+      return !config_.robust_tracking ||
+             m.fitness >= config_.tracking_recheck_ratio * recent_fitness_;
     };
     if (config_.always_correlative) {
-      match = local_submap_.Match(points, predicted, config_.local_correlative,
-                                  config_.icp);
-      matched = good(match, 2.0);
+      match = local_submap_.Match(
+          points, odometry_implausible ? cv_predicted : predicted,
+          config_.local_correlative, config_.icp);
+      matched =
+          good(match, odometry_implausible ? cv_predicted : predicted, 2.0);
     } else {
       match = local_submap_.Icp(points, predicted, config_.icp, tracking_prior);
-      matched = good(match, 1.0);
-      if (!matched) {
+      matched = good(match, predicted, 1.0);
+      bool from_odometry = matched;
+      if (config_.robust_tracking &&
+          (odometry_implausible || !(matched && fits_well(match)))) {
+        // The odometry may be wrong (frozen, jumping): also try the
+        // constant-velocity prediction, pulled towards it with the
+        // information of the last tracked motion, and keep the better fit
+        // (by a margin in favour of the odometry, unless it is
+        // implausible).
+        ++stats_.tracking_rechecks;
+        const IcpPrior cv_prior =
+            OdometryPrior(cv_predicted, Pose2(), velocity_);
+        const MatchResult cv = local_submap_.Icp(
+            points, cv_predicted, config_.icp,
+            config_.tracking_odometry_weight > 0 ? &cv_prior : nullptr);
+        const double margin = config_.tracking_recheck_margin;
+        if (good(cv, cv_predicted, 1.0) &&
+            (!matched ||
+             (odometry_implausible ? cv.fitness + margin >= match.fitness
+                                   : cv.fitness > match.fitness + margin))) {
+          match = cv;
+          matched = true;
+          from_odometry = false;
+        }
+      }
+      if (!(matched && fits_well(match))) {
         ++stats_.tracking_correlative;
+        const bool centre_odometry = from_odometry || !matched;
+        const Pose2 centre = centre_odometry ? predicted : cv_predicted;
         const MatchResult second = local_submap_.Match(
-            points, predicted, config_.local_correlative, config_.icp);
-        if (good(second, 2.0) &&
-            (!matched || second.num_inliers > match.num_inliers)) {
+            points, centre, config_.local_correlative, config_.icp);
+        if (good(second, centre, 2.0) &&
+            (!matched || second.fitness >
+                             match.fitness + config_.tracking_recheck_margin)) {
+          from_odometry = centre_odometry;
           match = second;
           matched = true;
+        }
+      }
+      // The scan disagrees with the odometry: the match came from another
+      // prediction and lies where the odometry increment is unlikely.
+      if (config_.robust_tracking && matched && !from_odometry) {
+        const OdometryDelta d =
+            OdometryMotion(Pose2(), odom_step, config_.odometry);
+        const Pose2 e = d.delta.Inverse() * (tracked_.Inverse() * match.pose);
+        const Eigen::Vector3d v(e.t.x(), e.t.y(), e.theta);
+        if (v.dot(d.covariance.inverse() * v) > config_.odometry_break_chi2) {
+          odometry_rejected = true;
         }
       }
     }
   }
   if (!matched) ++stats_.tracking_failures;
+  if (matched) {
+    recent_fitness_ = scans_.size() <= 1
+                          ? match.fitness
+                          : 0.9 * recent_fitness_ + 0.1 * match.fitness;
+  }
+  if (odometry_rejected) {
+    ++stats_.odometry_rejected;
+    odometry_break_ = true;
+  }
+  const Pose2 previous = tracked_;
   tracked_ = matched ? match.pose : predicted;
+  velocity_ = previous.Inverse() * tracked_;
+  // Path length: the odometry's, unless it was rejected.
+  path_ += odometry_rejected ? velocity_.t.norm() : odom_step.t.norm();
   if (config_.refine_scans) {
     scan_points_.push_back(points);
     scan_odom_.push_back(scan.odom);
@@ -207,7 +282,9 @@ void LaserSlam::AddKeyframe(const LaserScan& scan, const Points2& points,
   node->stamp = scan.stamp;
   node->has_stamp = true;
   if (k == 0) graph_.SetFixed(Pose2Key(0), true);
-  keyframes_.push_back({scan.stamp, points, scan.odom, path_, nullptr});
+  keyframes_.push_back(
+      {scan.stamp, points, scan.odom, path_, nullptr, odometry_break_});
+  odometry_break_ = false;
   ++stats_.keyframes;
   if (k > 0) {
     const Pose2 prev = KeyframePose(k - 1);
@@ -217,16 +294,34 @@ void LaserSlam::AddKeyframe(const LaserScan& scan, const Points2& points,
     }
     const OdometryDelta odom =
         OdometryMotion(keyframes_[k - 1].odom, scan.odom, config_.odometry);
-    AddBetween(k - 1, k, odom.delta, odom.covariance, nullptr, false);
+    if (!keyframes_[k].odometry_break) {
+      AddBetween(k - 1, k, odom.delta, odom.covariance, nullptr, false);
+    } else if (match == nullptr) {
+      // Nothing else joins k to k-1: keep the odometry, but so weak that
+      // any other constraint overrides it.
+      AddBetween(k - 1, k, odom.delta,
+                 odom.covariance * (config_.odometry_break_inflation *
+                                    config_.odometry_break_inflation),
+                 nullptr, false);
+      ++stats_.odometry_factors_weakened;
+    } else {
+      ++stats_.odometry_factors_dropped;
+    }
   }
   if (config_.chain_links > 0) {
     keyframes_[k].target = std::make_shared<MatchTarget>();
     keyframes_[k].target->Build(VoxelFilter(points, config_.submap_voxel),
                                 config_.icp.max_correspondence_distance,
                                 config_.normal_radius);
+    // Across rejected odometry the prior comes from the tracked motion.
+    bool odometry_break = keyframes_[k].odometry_break;
     for (int m = k - 2; m >= std::max(0, k - 1 - config_.chain_links); --m) {
-      const IcpPrior prior = OdometryPrior(KeyframePose(m).Inverse() * tracked_,
-                                           keyframes_[m].odom, scan.odom);
+      odometry_break |= keyframes_[m + 1].odometry_break;
+      const Pose2 relative = KeyframePose(m).Inverse() * tracked_;
+      const IcpPrior prior =
+          odometry_break
+              ? OdometryPrior(relative, Pose2(), relative)
+              : OdometryPrior(relative, keyframes_[m].odom, scan.odom);
       const MatchResult link =
           keyframes_[m].target->Icp(points, prior.pose, config_.icp, &prior);
       if (link.success && link.fitness >= config_.min_tracking_fitness &&
@@ -353,6 +448,7 @@ bool LaserSlam::DetectLoopClosures(int k) {
       if (!other.added) {
         AddBetween(other.j, other.k, other.z, MatchCovariance(other),
                    MakeLoss(config_.loop_kernel), true);
+        NoteCorrection(KeyframePose(other.k), KeyframePose(other.j) * other.z);
         other.added = true;
         ++stats_.closures_accepted;
       }
@@ -360,6 +456,7 @@ bool LaserSlam::DetectLoopClosures(int k) {
     if (consistent) {
       AddBetween(j, k, match.pose, MatchCovariance(match),
                  MakeLoss(config_.loop_kernel), true);
+      NoteCorrection(pose_k, pose_j * match.pose);
       h.added = true;
       ++stats_.closures_accepted;
       accepted = true;
@@ -475,6 +572,7 @@ void LaserSlam::CloseLoopsFinal() {
       }
       AddBetween(j, k, match.pose, MatchCovariance(match),
                  MakeLoss(config_.loop_kernel), true);
+      NoteCorrection(poses[k], poses[j] * match.pose);
       ++stats_.final_closures_accepted;
     }
   }

@@ -84,6 +84,26 @@ struct LaserSlamConfig {
   // Correlative search before ICP on every scan (else only when ICP fails).
   bool always_correlative = false;
   double max_tracking_jump = 0.5;  // m (and the same number in rad).
+  // Robust tracking: the odometry is a prior, not the truth (wheel
+  // encoders freeze and then jump, wheels slip). An odometry increment that
+  // differs from the last tracked one by more than max_tracking_jump is
+  // implausible and not used. When the odometry-prior ICP fails or fits
+  // below tracking_recheck_ratio times the running mean of the tracking
+  // fitness, ICP is also tried from the constant-velocity prediction (with
+  // a prior of the last tracked motion's information), then the
+  // correlative search, and the best fit wins (an alternative must beat
+  // the odometry's fitness by tracking_recheck_margin). When the chosen
+  // match is not the odometry's and the odometry increment's chi2 against
+  // it exceeds odometry_break_chi2, the odometry is rejected for that
+  // scan: the keyframe odometry factor spanning it is dropped (kept with
+  // its standard deviations times odometry_break_inflation when no scan
+  // match joins the two keyframes), chain links use the tracked motion as
+  // prior.
+  bool robust_tracking = true;
+  double tracking_recheck_ratio = 0.7;
+  double tracking_recheck_margin = 0.05;
+  double odometry_break_chi2 = 100.0;
+  double odometry_break_inflation = 100.0;
   // Tracking ICP is pulled towards the odometry prediction with the
   // odometry increment's information (odometry model below) times this
   // weight, converted to ICP's units with icp.sigma_min^2 *
@@ -176,8 +196,18 @@ struct LaserSlamStats {
   int keyframes = 0;
   int tracking_correlative = 0;  // Scans that needed the correlative search.
   int tracking_failures = 0;     // Scans left at the odometry prediction.
-  int closures_proposed = 0;     // Candidates verified by matching.
-  int closures_accepted = 0;
+  int tracking_rechecks = 0;     // Scans also matched from constant velocity.
+  int odometry_rejected = 0;     // Scans whose odometry tracking rejected.
+  int odometry_factors_dropped = 0;   // Keyframe odometry factors dropped...
+  int odometry_factors_weakened = 0;  // ... or down-weighted (no scan match).
+  int closures_proposed = 0;          // Candidates verified by matching.
+  int closures_accepted = 0;          // Of which global (below):
+  int global_closures_proposed = 0;   // Global search (place recognition).
+  int global_closures_accepted = 0;
+  // Largest correction an accepted closure implied for its keyframe's
+  // estimate when it was accepted (m, deg).
+  double largest_correction_m = 0.0;
+  double largest_correction_deg = 0.0;
   int closures_rejected = 0;        // Accepted, then down-weighted (Finish).
   int final_closures_proposed = 0;  // Final pass (Finish).
   int final_closures_accepted = 0;
@@ -238,6 +268,8 @@ class LaserSlam {
     Pose2 odom;
     double path = 0.0;                    // Path length from the start (m).
     std::shared_ptr<MatchTarget> target;  // Own points (chain links).
+    // Tracking rejected the odometry between keyframe k-1 and k.
+    bool odometry_break = false;
   };
 
   void AddKeyframe(const LaserScan& scan, const Points2& points,
@@ -251,6 +283,9 @@ class LaserSlam {
   IcpPrior OdometryPrior(const Pose2& pose, const Pose2& odom_from,
                          const Pose2& odom_to) const;
   void CloseLoopsFinal();
+  // Updates the largest-correction statistics with an accepted closure's:
+  // it moves a keyframe from `before` to `after`.
+  void NoteCorrection(const Pose2& before, const Pose2& after);
   // Removes the closures the robust kernel has switched off (counted in
   // closures_rejected) and optimizes again.
   void RejectClosures();
@@ -274,8 +309,11 @@ class LaserSlam {
   Pose2 ScanPose(size_t i) const;     // Output pose of scan i.
   std::vector<FactorId> loop_factors_;
   MatchTarget local_submap_;
-  Pose2 tracked_;    // Robot pose of the last scan (world).
-  Pose2 last_odom_;  // Odometry pose of the last scan.
+  Pose2 tracked_;                // Robot pose of the last scan (world).
+  Pose2 last_odom_;              // Odometry pose of the last scan.
+  Pose2 velocity_;               // Tracked increment of the last scan.
+  double recent_fitness_ = 0.0;  // Running mean of the tracking fitness.
+  bool odometry_break_ = false;  // Since the last keyframe.
   double path_ = 0.0;
   int last_optimized_keyframe_ = 0;
   double last_closure_path_ = -1e300;
