@@ -296,6 +296,48 @@ TEST(LaserSlamTest, TrackingSurvivesOdometryFreezeAndJump) {
   EXPECT_LE(s.odometry_rejected, 12);  // Only around the two faults.
 }
 
+// Drift beyond the local loop search: the laser sees nothing for 6 m while
+// the odometry jumps by 0.45 rad, so the map after that stretch starts
+// rotated and the robot comes back to its start about 8 m from where the
+// map puts it, beyond the local search radius. Only the global search
+// (Scan Context candidates, verified and checked for consistency) can close
+// the loop; the answer is then recovered.
+TEST(LaserSlamTest, GlobalLoopSearchClosesLoopBeyondTheLocalRadius) {
+  LogFaults faults;
+  faults.first_blind = 200;  // On the second side, after the first corner.
+  faults.blind = 60;
+  OdometryFault jump;
+  jump.kind = OdometryFault::kJump;
+  jump.first = 230;
+  jump.jump = Pose2(0.3, 0.2, 0.45);
+  faults.odometry = {jump};
+  const SyntheticLog data = MakeSyntheticLog(1.6, 41, faults);
+  for (const bool global : {false, true}) {
+    LaserSlamConfig config;
+    config.loop_global = global;
+    LaserSlam slam(config);
+    for (const LaserScan& scan : data.log.scans) slam.AddScan(scan);
+    slam.Finish();
+    const Trajectory est = slam.ScanTrajectory();
+    ASSERT_EQ(est.size(), data.truth.size());
+    const LaserSlamStats& s = slam.stats();
+    const double rmse = PositionRmse(est, data.truth);
+    std::printf(
+        "global %d: rmse %.3f m, closures %d accepted (%d global of %d "
+        "proposed), %d rejected, largest correction %.2f m %.1f deg\n",
+        global, rmse, s.closures_accepted, s.global_closures_accepted,
+        s.global_closures_proposed, s.closures_rejected, s.largest_correction_m,
+        s.largest_correction_deg);
+    if (global) {
+      EXPECT_GT(s.global_closures_accepted, 0);
+      EXPECT_GT(s.largest_correction_m, 4.0);
+      EXPECT_LT(rmse, 0.1);
+    } else {
+      EXPECT_GT(rmse, 1.0);  // The drift is real and the local search fails.
+    }
+  }
+}
+
 TEST(LaserSlamTest, RunCommandOnSyntheticLog) {
   const SyntheticLog data = MakeSyntheticLog(1.4, 31);
   const std::string dir = TempDir();
