@@ -357,7 +357,7 @@ TEST(LaserSlamTest, RunCommandOnSyntheticLog) {
   ASSERT_TRUE(ReadTumTrajectory(dir + "/out/trajectory.tum", &est, &error))
       << error;
   ASSERT_EQ(est.size(), data.truth.size());
-  EXPECT_LT(PositionRmse(est, data.truth), 0.05);
+  EXPECT_LT(PositionRmse(est, data.truth), 0.05) << text;
   EXPECT_TRUE(testing::Exists(dir + "/out/graph.g2o"));
   EXPECT_TRUE(testing::Exists(dir + "/out/map.pgm"));
   EXPECT_TRUE(testing::Exists(dir + "/out/map.yaml"));

@@ -410,6 +410,10 @@ bool LaserSlam::DetectLoopClosures(int k) {
   }
   const bool global = config_.loop_global;
   if (chosen.empty() && !global) return false;
+  // Just closed against a place closed on an earlier visit: the estimate is
+  // anchored to a well-connected map, ICP from it suffices.
+  const bool anchored =
+      current.path - anchored_from_path_ < config_.loop_anchored_path;
   // The query: the last loop_query_keyframes keyframes in k's frame, so that
   // both sides of the match are local maps of several metres.
   const Points2 query = VoxelFilter(
@@ -428,8 +432,9 @@ bool LaserSlam::DetectLoopClosures(int k) {
     CorrelativeOptions search = config_.loop_correlative;
     search.window_xy = std::max(search.window_xy, candidate.radius);
     const int j = candidate.index;
-    accepted |= VerifyLoop(k, j, KeyframePose(j).Inverse() * pose_k, search,
-                           false, query, search_query, &significant);
+    accepted |= VerifyLoop(k, j, KeyframePose(j).Inverse() * pose_k,
+                           anchored ? nullptr : &search, false, query,
+                           search_query, &significant);
   }
   // Global search: the local searches have found nothing for
   // loop_global_min_path metres; the places outside their radius whose
@@ -483,7 +488,7 @@ bool LaserSlam::DetectLoopClosures(int k) {
       CorrelativeOptions search = config_.loop_correlative;
       search.window_xy = config_.loop_global_window;
       ++stats_.global_closures_proposed;
-      VerifyLoop(k, place.index, Pose2(0.0, 0.0, place.rotation), search, true,
+      VerifyLoop(k, place.index, Pose2(0.0, 0.0, place.rotation), &search, true,
                  query, search_query, &significant);
     }
   }
@@ -497,7 +502,7 @@ bool LaserSlam::DetectLoopClosures(int k) {
 }
 
 bool LaserSlam::VerifyLoop(int k, int j, const Pose2& guess,
-                           const CorrelativeOptions& search, bool global,
+                           const CorrelativeOptions* search, bool global,
                            const Points2& query, const Points2& search_query,
                            bool* significant) {
   const Pose2 pose_k = KeyframePose(k);
@@ -512,12 +517,27 @@ bool LaserSlam::VerifyLoop(int k, int j, const Pose2& guess,
                config_.icp.max_correspondence_distance, config_.normal_radius);
   // The search on a sparser copy of the query (its cost is linear in the
   // points), ICP on the whole query.
+  // Without a search (anchored), ICP alone may only correct the guess
+  // slightly, as in the final pass.
   double score = 0.0;
-  const Pose2 coarse = target.Correlative(search_query, guess, search, &score);
+  const Pose2 coarse =
+      search != nullptr
+          ? target.Correlative(search_query, guess, *search, &score)
+          : guess;
   MatchResult match = target.Icp(query, coarse, config_.icp);
   match.score = score;
   ++stats_.closures_proposed;
-  if (!LoopMatchPasses(match, config_)) return false;
+  if (search == nullptr) {
+    LaserSlamConfig checks = config_;
+    checks.loop_min_score = 0.0;
+    if (!LoopMatchPasses(match, checks) ||
+        !SmallMotion(match.pose, guess, config_.loop_final_max_correction,
+                     config_.loop_final_max_correction)) {
+      return false;
+    }
+  } else if (!LoopMatchPasses(match, config_)) {
+    return false;
+  }
   // Geometric consistency: the correction this closure implies (the
   // transform taking k's estimate to where the match puts it) must agree
   // with another recent keyframe's passing matches (global ones: with
@@ -529,6 +549,15 @@ bool LaserSlam::VerifyLoop(int k, int j, const Pose2& guess,
                    pose_j * match.pose * pose_k.Inverse(),
                    false,
                    global};
+  // A correction the chi2 test has undone recently is not tried again.
+  for (const auto& [when, correction] : undone_corrections_) {
+    const Pose2 diff = correction.Inverse() * h.correction;
+    if (k - when <= config_.loop_undone_memory &&
+        diff.t.norm() <= config_.loop_consistency_distance * 10 &&
+        std::abs(diff.theta) <= config_.loop_consistency_angle * 10) {
+      return false;
+    }
+  }
   std::vector<LoopHypothesis*> agreeing;
   for (LoopHypothesis& other : hypotheses_) {
     if (k - other.k > config_.loop_consistency_keyframes || other.k == k) {
@@ -550,14 +579,24 @@ bool LaserSlam::VerifyLoop(int k, int j, const Pose2& guess,
   }
   agreeing.push_back(&h);
   const LaserSlamStats stats_before = stats_;
+  // Whether the place was closed on an earlier visit (a closure from a
+  // keyframe more than loop_min_separation of path before k).
+  bool place_closed = false;
+  for (int m = std::max(0, j - config_.loop_submap_half_width);
+       m <= std::min(k, j + config_.loop_submap_half_width); ++m) {
+    place_closed |= keyframes_[m].first_closed_path <
+                    keyframes_[k].path - config_.loop_min_separation;
+  }
   for (LoopHypothesis* a : agreeing) {
     if (a->added) continue;
     const Pose2 before = KeyframePose(a->k);
     const Pose2 after = KeyframePose(a->j) * a->z;
     *significant |= NoteCorrection(before, after);
-    // A global closure's correction lies far outside the robust kernel's
-    // width: the first optimization applies it without the kernel.
-    const bool plain = any_global && !SmallMotion(before, after, 1.0, 0.2);
+    // A large correction (a global closure, or drift the local search
+    // caught) lies far outside the robust kernel's width: the first
+    // optimization applies it without the kernel, and the chi2 test of
+    // ApplyPlainClosures decides whether it stays.
+    const bool plain = !SmallMotion(before, after, 1.0, 0.2);
     const FactorId id =
         AddBetween(a->j, a->k, a->z, MatchCovariance(*a),
                    plain ? nullptr : MakeLoss(config_.loop_kernel), true);
@@ -565,12 +604,21 @@ bool LaserSlam::VerifyLoop(int k, int j, const Pose2& guess,
     a->added = true;
     ++stats_.closures_accepted;
     if (a->global) ++stats_.global_closures_accepted;
+    double& first = keyframes_[a->j].first_closed_path;
+    first = std::min(first, keyframes_[a->k].path);
   }
   hypotheses_.push_back(h);
   if (!plain_closures_.empty()) {
     // Optimize now: each group of large corrections is tested on its own.
     if (!ApplyPlainClosures()) {
       // Undone: neither counted nor kept as evidence for later matches.
+      undone_corrections_.emplace_back(k, h.correction);
+      undone_corrections_.erase(
+          std::remove_if(undone_corrections_.begin(), undone_corrections_.end(),
+                         [&](const std::pair<int, Pose2>& u) {
+                           return k - u.first > config_.loop_undone_memory;
+                         }),
+          undone_corrections_.end());
       stats_.largest_correction_m = stats_before.largest_correction_m;
       stats_.largest_correction_deg = stats_before.largest_correction_deg;
       hypotheses_.erase(
@@ -582,6 +630,7 @@ bool LaserSlam::VerifyLoop(int k, int j, const Pose2& guess,
     *significant = false;
   }
   last_closure_path_ = keyframes_[k].path;
+  if (place_closed) anchored_from_path_ = keyframes_[k].path;
   return true;
 }
 

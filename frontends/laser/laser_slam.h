@@ -155,7 +155,16 @@ struct LaserSlamConfig {
   // pass): more closures add little there, and searching every revisit of
   // every place makes the cost grow with the square of the log length
   // (a log played three times cost 8.8 times one playing). <= 0: no limit.
-  int loop_place_max_closures = 16;
+  int loop_place_max_closures = 32;
+  // For this many metres of path after a closure accepted against a place
+  // closed on an earlier visit (visited at least three times), the
+  // estimate is anchored to a well-connected map: local candidates are
+  // verified by ICP alone from the estimate (no correlative search; the
+  // match may move k by at most loop_final_max_correction), which keeps
+  // the loop search cost of repeated traversals near that of the first
+  // (a log played three times cost 8.8 times one playing). 0: always
+  // search.
+  double loop_anchored_path = 10.0;
   // An accepted closure triggers an incremental optimization only when it
   // moves its keyframe by at least this (m, and the same number in rad);
   // smaller corrections wait for the periodic and the final optimization.
@@ -186,10 +195,11 @@ struct LaserSlamConfig {
   // like local candidates but from the descriptor's rotation over
   // +-loop_global_window (m). A global match is accepted only when
   // loop_global_min_agreeing other passing matches of recent keyframes
-  // imply the same correction (local ones need one). Closures moving their
-  // keyframe by more than 1 m or 0.2 rad are first optimized without the
-  // robust kernel (far outside its width they would get no weight), then
-  // given the kernel like every closure.
+  // imply the same correction (local ones need one). Closures (global or
+  // local) moving their keyframe by more than 1 m or 0.2 rad are first
+  // optimized without the robust kernel (far outside its width they would
+  // get no weight), then given the kernel like every closure, or undone
+  // (loop_global_max_chi2).
   bool loop_global = true;
   ScanContextOptions loop_context;
   double loop_global_min_path = 10.0;  // m.
@@ -202,7 +212,11 @@ struct LaserSlamConfig {
   // The first optimization with such closures (see above) may raise the
   // chi2 of the other factors by at most this; else the closures are
   // removed and the graph restored (a wrong match bends the whole chain).
-  double loop_global_max_chi2 = 1000.0;
+  double loop_global_max_chi2 = 100.0;
+  // For this many keyframes, a passing match whose correction is within 10
+  // times loop_consistency_distance / _angle of an undone one is dropped
+  // without another test (each test is a full optimization).
+  int loop_undone_memory = 50;
   // Final loop-closure pass (Finish, after the first global optimization
   // and rejection): the map is now consistent, so every loop_every-th
   // keyframe k is matched by ICP alone, from the optimized relative pose,
@@ -323,7 +337,9 @@ class LaserSlam {
     std::shared_ptr<MatchTarget> target;  // Own points (chain links).
     // Tracking rejected the odometry between keyframe k-1 and k.
     bool odometry_break = false;
-    int closures = 0;     // Loop-closure factors joined to this keyframe.
+    int closures = 0;  // Loop-closure factors joined to this keyframe.
+    // Path (of the other keyframe) of the first closure to this one.
+    double first_closed_path = 1e300;
     ScanContext context;  // Of the loop query (global search).
   };
 
@@ -379,6 +395,7 @@ class LaserSlam {
   double path_ = 0.0;
   int last_optimized_keyframe_ = 0;
   double last_closure_path_ = -1e300;
+  double anchored_from_path_ = -1e300;  // loop_anchored_path.
   struct LoopHypothesis {
     int k, j;
     Pose2 z;
@@ -392,7 +409,7 @@ class LaserSlam {
   // the closures that pass. True when some were added; sets *significant
   // when one moves its keyframe by loop_optimize_min_correction.
   bool VerifyLoop(int k, int j, const Pose2& guess,
-                  const CorrelativeOptions& search, bool global,
+                  const CorrelativeOptions* search, bool global,
                   const Points2& query, const Points2& search_query,
                   bool* significant);
   // Optimizes with the closures added without the robust kernel (large
@@ -401,6 +418,8 @@ class LaserSlam {
   // them and restores the graph (false).
   bool ApplyPlainClosures();
   std::vector<std::pair<FactorId, LoopHypothesis>> plain_closures_;
+  // Keyframe and correction of the closures the chi2 test undid.
+  std::vector<std::pair<int, Pose2>> undone_corrections_;
   std::vector<LoopHypothesis> hypotheses_;
   bool pending_loop_ = false;
 };
