@@ -596,7 +596,7 @@ bool LaserSlam::VerifyLoop(int k, int j, const Pose2& guess,
     // caught) lies far outside the robust kernel's width: the first
     // optimization applies it without the kernel, and the chi2 test of
     // ApplyPlainClosures decides whether it stays.
-    const bool plain = !SmallMotion(before, after, 1.0, 0.2);
+    const bool plain = !SmallMotion(before, after, 2.0, 0.35);
     const FactorId id =
         AddBetween(a->j, a->k, a->z, MatchCovariance(*a),
                    plain ? nullptr : MakeLoss(config_.loop_kernel), true);

@@ -196,7 +196,7 @@ struct LaserSlamConfig {
   // +-loop_global_window (m). A global match is accepted only when
   // loop_global_min_agreeing other passing matches of recent keyframes
   // imply the same correction (local ones need one). Closures (global or
-  // local) moving their keyframe by more than 1 m or 0.2 rad are first
+  // local) moving their keyframe by more than 2 m or 0.35 rad are first
   // optimized without the robust kernel (far outside its width they would
   // get no weight), then given the kernel like every closure, or undone
   // (loop_global_max_chi2).
