@@ -267,7 +267,7 @@ struct LaserSlamStats {
   int odometry_factors_dropped = 0;   // Keyframe odometry factors dropped...
   int odometry_factors_weakened = 0;  // ... or down-weighted (no scan match).
   int closures_proposed = 0;          // Candidates verified by matching.
-  int closures_accepted = 0;          // Of which global (below):
+  int closures_accepted = 0;          // Incremental (local + global).
   int global_closures_proposed = 0;   // Global search (place recognition).
   int global_closures_accepted = 0;
   int closures_reverted = 0;  // Large corrections undone by the chi2 test.
