@@ -258,15 +258,27 @@ int RunRunCommand(const std::vector<std::string>& args) {
   }
 
   const LaserSlamStats& s = slam.stats();
+  // One line, "N keyframes ... loop closures: N proposed, N accepted, N
+  // rejected" as scripts/benchmark_laser.py reads it; proposed = searched
+  // (verified by matching), all passes together.
   std::printf(
-      "run: %d scans, %d keyframes; tracking: %d correlative, %d odometry "
-      "only; loop closures: %d proposed, %d accepted, %d rejected; %d "
-      "optimizations; final loop pass: %d proposed, %d accepted; %d scans "
+      "run: %d scans, %d keyframes; loop closures: %d proposed, %d accepted, "
+      "%d rejected (searched %d local, %d global, %d final pass; accepted %d "
+      "global, %d final pass; %d undone by the chi2 test; largest "
+      "correction %.3f m, %.2f deg); "
+      "tracking: %d correlative, %d rechecked from constant velocity, %d "
+      "odometry only, odometry rejected on %d scans (keyframe odometry "
+      "factors %d dropped, %d down-weighted); %d optimizations; %d scans "
       "refined\n",
-      s.scans, s.keyframes, s.tracking_correlative, s.tracking_failures,
-      s.closures_proposed, s.closures_accepted, s.closures_rejected,
-      s.optimizations, s.final_closures_proposed, s.final_closures_accepted,
-      s.scans_refined);
+      s.scans, s.keyframes, s.closures_proposed + s.final_closures_proposed,
+      s.closures_accepted + s.final_closures_accepted, s.closures_rejected,
+      s.closures_proposed - s.global_closures_proposed,
+      s.global_closures_proposed, s.final_closures_proposed,
+      s.global_closures_accepted, s.final_closures_accepted,
+      s.closures_reverted, s.largest_correction_m, s.largest_correction_deg,
+      s.tracking_correlative, s.tracking_rechecks, s.tracking_failures,
+      s.odometry_rejected, s.odometry_factors_dropped,
+      s.odometry_factors_weakened, s.optimizations, s.scans_refined);
   std::printf(
       "run: time %.2f s (read %.2f s, slam %.2f s: matching %.2f, loops %.2f, "
       "optimization %.2f, refinement %.2f)\n",

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "factors/pose_factors.h"
+#include "frontends/laser/scan_context.h"
 
 namespace slam {
 namespace {
@@ -73,25 +74,51 @@ IcpPrior LaserSlam::OdometryPrior(const Pose2& pose, const Pose2& odom_from,
   return prior;
 }
 
+bool LaserSlam::PlaceSaturated(int j) const {
+  if (config_.loop_place_max_closures <= 0) return false;
+  const int n = static_cast<int>(keyframes_.size());
+  int closures = 0;
+  for (int m = std::max(0, j - config_.loop_submap_half_width);
+       m <= std::min(n - 1, j + config_.loop_submap_half_width); ++m) {
+    closures += keyframes_[m].closures;
+  }
+  return closures >= config_.loop_place_max_closures;
+}
+
+bool LaserSlam::NoteCorrection(const Pose2& before, const Pose2& after) {
+  stats_.largest_correction_m =
+      std::max(stats_.largest_correction_m, (after.t - before.t).norm());
+  stats_.largest_correction_deg = std::max(
+      stats_.largest_correction_deg,
+      std::abs(NormalizeAngle(after.theta - before.theta)) * 180.0 / M_PI);
+  return !SmallMotion(before, after, config_.loop_optimize_min_correction,
+                      config_.loop_optimize_min_correction);
+}
+
 Pose2 LaserSlam::KeyframePose(size_t k) const {
   return NodePose2(*graph_.FindNode(Pose2Key(static_cast<int64_t>(k))));
 }
 
-void LaserSlam::AddBetween(int i, int j, const Pose2& z,
-                           const Eigen::Matrix3d& cov,
-                           std::shared_ptr<ceres::LossFunction> loss,
-                           bool loop) {
+FactorId LaserSlam::AddBetween(int i, int j, const Pose2& z,
+                               const Eigen::Matrix3d& cov,
+                               std::shared_ptr<ceres::LossFunction> loss,
+                               bool loop) {
   Factor factor;
   std::string error;
   const Eigen::Matrix3d information = cov.inverse();
   if (!MakeBetweenSE2(Pose2Key(i), Pose2Key(j), z,
                       0.5 * (information + information.transpose()), &factor,
                       &error)) {
-    return;  // Not positive definite: the measurement carries no weight.
+    return -1;  // Not positive definite: the measurement carries no weight.
   }
   factor.loss = std::move(loss);
   const FactorId id = graph_.AddFactor(std::move(factor));
-  if (loop && id >= 0) loop_factors_.push_back(id);
+  if (loop && id >= 0) {
+    loop_factors_.push_back(id);
+    ++keyframes_[i].closures;
+    ++keyframes_[j].closures;
+  }
+  return id;
 }
 
 void LaserSlam::AddScan(const LaserScan& scan) {
@@ -117,41 +144,108 @@ void LaserSlam::AddScan(const LaserScan& scan) {
     return;
   }
 
-  path_ += (scan.odom.t - last_odom_.t).norm();
-  const Pose2 predicted = tracked_ * (last_odom_.Inverse() * scan.odom);
+  const Pose2 odom_step = last_odom_.Inverse() * scan.odom;
+  const Pose2 predicted = tracked_ * odom_step;
   const IcpPrior prior = OdometryPrior(predicted, last_odom_, scan.odom);
   const IcpPrior* tracking_prior =
       config_.tracking_odometry_weight > 0 ? &prior : nullptr;
   last_odom_ = scan.odom;
+  const double jump = config_.max_tracking_jump;
+  // The constant-velocity prediction: the last tracked increment again.
+  const Pose2 cv_predicted = tracked_ * velocity_;
+  // No robot changes its motion between two scans by a tracking jump: such
+  // an odometry increment is wrong (a jump, the catch-up after a freeze).
+  const bool odometry_implausible =
+      config_.robust_tracking && scans_.size() >= 2 &&
+      !SmallMotion(odom_step, velocity_, jump, jump);
   MatchResult match;
   bool matched = false;
+  bool odometry_rejected = false;
   if (points.size() >= 10 && !local_submap_.empty()) {
-    const double jump = config_.max_tracking_jump;
-    auto good = [&](const MatchResult& m, double scale) {
+    auto good = [&](const MatchResult& m, const Pose2& from, double scale) {
       return m.success && m.fitness >= config_.min_tracking_fitness &&
-             SmallMotion(m.pose, predicted, scale * jump, scale * jump);
+             SmallMotion(m.pose, from, scale * jump, scale * jump);
+    };
+    // A match fits well when its fitness is not far below the recent ones.
+    auto fits_well = [&](const MatchResult& m) {
+      return !config_.robust_tracking ||
+             m.fitness >= config_.tracking_recheck_ratio * recent_fitness_;
     };
     if (config_.always_correlative) {
-      match = local_submap_.Match(points, predicted, config_.local_correlative,
-                                  config_.icp);
-      matched = good(match, 2.0);
+      match = local_submap_.Match(
+          points, odometry_implausible ? cv_predicted : predicted,
+          config_.local_correlative, config_.icp);
+      matched =
+          good(match, odometry_implausible ? cv_predicted : predicted, 2.0);
     } else {
       match = local_submap_.Icp(points, predicted, config_.icp, tracking_prior);
-      matched = good(match, 1.0);
-      if (!matched) {
+      matched = good(match, predicted, 1.0);
+      bool from_odometry = matched;
+      if (config_.robust_tracking &&
+          (odometry_implausible || !(matched && fits_well(match)))) {
+        // The odometry may be wrong (frozen, jumping): also try the
+        // constant-velocity prediction, pulled towards it with the
+        // information of the last tracked motion, and keep the better fit
+        // (by a margin in favour of the odometry, unless it is
+        // implausible).
+        ++stats_.tracking_rechecks;
+        const IcpPrior cv_prior =
+            OdometryPrior(cv_predicted, Pose2(), velocity_);
+        const MatchResult cv = local_submap_.Icp(
+            points, cv_predicted, config_.icp,
+            config_.tracking_odometry_weight > 0 ? &cv_prior : nullptr);
+        const double margin = config_.tracking_recheck_margin;
+        if (good(cv, cv_predicted, 1.0) &&
+            (!matched ||
+             (odometry_implausible ? cv.fitness + margin >= match.fitness
+                                   : cv.fitness > match.fitness + margin))) {
+          match = cv;
+          matched = true;
+          from_odometry = false;
+        }
+      }
+      if (!(matched && fits_well(match))) {
         ++stats_.tracking_correlative;
+        const bool centre_odometry = from_odometry || !matched;
+        const Pose2 centre = centre_odometry ? predicted : cv_predicted;
         const MatchResult second = local_submap_.Match(
-            points, predicted, config_.local_correlative, config_.icp);
-        if (good(second, 2.0) &&
-            (!matched || second.num_inliers > match.num_inliers)) {
+            points, centre, config_.local_correlative, config_.icp);
+        if (good(second, centre, 2.0) &&
+            (!matched || second.fitness >
+                             match.fitness + config_.tracking_recheck_margin)) {
+          from_odometry = centre_odometry;
           match = second;
           matched = true;
+        }
+      }
+      // The scan disagrees with the odometry: the match came from another
+      // prediction and lies where the odometry increment is unlikely.
+      if (config_.robust_tracking && matched && !from_odometry) {
+        const OdometryDelta d =
+            OdometryMotion(Pose2(), odom_step, config_.odometry);
+        const Pose2 e = d.delta.Inverse() * (tracked_.Inverse() * match.pose);
+        const Eigen::Vector3d v(e.t.x(), e.t.y(), e.theta);
+        if (v.dot(d.covariance.inverse() * v) > config_.odometry_break_chi2) {
+          odometry_rejected = true;
         }
       }
     }
   }
   if (!matched) ++stats_.tracking_failures;
+  if (matched) {
+    recent_fitness_ = scans_.size() <= 1
+                          ? match.fitness
+                          : 0.9 * recent_fitness_ + 0.1 * match.fitness;
+  }
+  if (odometry_rejected) {
+    ++stats_.odometry_rejected;
+    odometry_break_ = true;
+  }
+  const Pose2 previous = tracked_;
   tracked_ = matched ? match.pose : predicted;
+  velocity_ = previous.Inverse() * tracked_;
+  // Path length: the odometry's, unless it was rejected.
+  path_ += odometry_rejected ? velocity_.t.norm() : odom_step.t.norm();
   if (config_.refine_scans) {
     scan_points_.push_back(points);
     scan_odom_.push_back(scan.odom);
@@ -207,7 +301,9 @@ void LaserSlam::AddKeyframe(const LaserScan& scan, const Points2& points,
   node->stamp = scan.stamp;
   node->has_stamp = true;
   if (k == 0) graph_.SetFixed(Pose2Key(0), true);
-  keyframes_.push_back({scan.stamp, points, scan.odom, path_, nullptr});
+  keyframes_.push_back(
+      {scan.stamp, points, scan.odom, path_, nullptr, odometry_break_});
+  odometry_break_ = false;
   ++stats_.keyframes;
   if (k > 0) {
     const Pose2 prev = KeyframePose(k - 1);
@@ -217,16 +313,34 @@ void LaserSlam::AddKeyframe(const LaserScan& scan, const Points2& points,
     }
     const OdometryDelta odom =
         OdometryMotion(keyframes_[k - 1].odom, scan.odom, config_.odometry);
-    AddBetween(k - 1, k, odom.delta, odom.covariance, nullptr, false);
+    if (!keyframes_[k].odometry_break) {
+      AddBetween(k - 1, k, odom.delta, odom.covariance, nullptr, false);
+    } else if (match == nullptr) {
+      // Nothing else joins k to k-1: keep the odometry, but so weak that
+      // any other constraint overrides it.
+      AddBetween(k - 1, k, odom.delta,
+                 odom.covariance * (config_.odometry_break_inflation *
+                                    config_.odometry_break_inflation),
+                 nullptr, false);
+      ++stats_.odometry_factors_weakened;
+    } else {
+      ++stats_.odometry_factors_dropped;
+    }
   }
   if (config_.chain_links > 0) {
     keyframes_[k].target = std::make_shared<MatchTarget>();
     keyframes_[k].target->Build(VoxelFilter(points, config_.submap_voxel),
                                 config_.icp.max_correspondence_distance,
                                 config_.normal_radius);
+    // Across rejected odometry the prior comes from the tracked motion.
+    bool odometry_break = keyframes_[k].odometry_break;
     for (int m = k - 2; m >= std::max(0, k - 1 - config_.chain_links); --m) {
-      const IcpPrior prior = OdometryPrior(KeyframePose(m).Inverse() * tracked_,
-                                           keyframes_[m].odom, scan.odom);
+      odometry_break |= keyframes_[m + 1].odometry_break;
+      const Pose2 relative = KeyframePose(m).Inverse() * tracked_;
+      const IcpPrior prior =
+          odometry_break
+              ? OdometryPrior(relative, Pose2(), relative)
+              : OdometryPrior(relative, keyframes_[m].odom, scan.odom);
       const MatchResult link =
           keyframes_[m].target->Icp(points, prior.pose, config_.icp, &prior);
       if (link.success && link.fitness >= config_.min_tracking_fitness &&
@@ -252,7 +366,7 @@ void LaserSlam::RebuildLocalSubmap() {
 }
 
 bool LaserSlam::DetectLoopClosures(int k) {
-  const Keyframe& current = keyframes_[k];
+  Keyframe& current = keyframes_[k];
   if (current.points.size() < 20) return false;
   if (config_.loop_every > 1 && k % config_.loop_every != 0) return false;
   const Pose2 pose_k = KeyframePose(k);
@@ -262,6 +376,8 @@ bool LaserSlam::DetectLoopClosures(int k) {
     double radius;
   };
   std::vector<Candidate> candidates;
+  // Per older keyframe: the local search radius (drift bound).
+  std::vector<double> radii(std::max(0, k - config_.submap_keyframes), -1.0);
   for (int j = 0; j < k - config_.submap_keyframes; ++j) {
     const double separation = current.path - keyframes_[j].path;
     if (separation < config_.loop_min_separation) continue;
@@ -274,8 +390,9 @@ bool LaserSlam::DetectLoopClosures(int k) {
     const double radius = std::min(
         config_.loop_max_radius,
         config_.loop_search_radius + config_.loop_radius_growth * drift_path);
+    radii[j] = radius;
     const double d = (KeyframePose(j).t - pose_k.t).norm();
-    if (d <= radius) candidates.push_back({d, j, radius});
+    if (d <= radius && !PlaceSaturated(j)) candidates.push_back({d, j, radius});
   }
   std::sort(candidates.begin(), candidates.end(),
             [](const Candidate& a, const Candidate& b) {
@@ -291,7 +408,12 @@ bool LaserSlam::DetectLoopClosures(int k) {
     }
     if (!near_chosen) chosen.push_back(c);
   }
-  if (chosen.empty()) return false;
+  const bool global = config_.loop_global;
+  if (chosen.empty() && !global) return false;
+  // Just closed against a place closed on an earlier visit: the estimate is
+  // anchored to a well-connected map, ICP from it suffices.
+  const bool anchored =
+      current.path - anchored_from_path_ < config_.loop_anchored_path;
   // The query: the last loop_query_keyframes keyframes in k's frame, so that
   // both sides of the match are local maps of several metres.
   const Points2 query = VoxelFilter(
@@ -302,70 +424,73 @@ bool LaserSlam::DetectLoopClosures(int k) {
       config_.loop_search_voxel > config_.loop_query_voxel
           ? VoxelFilter(query, config_.loop_search_voxel)
           : query;
+  if (global) current.context = MakeScanContext(query, config_.loop_context);
+  bool significant = false;
   bool accepted = false;
   for (const Candidate& candidate : chosen) {
-    const int j = candidate.index;
     // The search window covers the uncertainty the candidate was found with.
     CorrelativeOptions search = config_.loop_correlative;
     search.window_xy = std::max(search.window_xy, candidate.radius);
-    const Pose2 pose_j = KeyframePose(j);
-    const Pose2 j_inv = pose_j.Inverse();
-    const Points2 submap =
-        KeyframeCloud(std::max(0, j - config_.loop_submap_half_width),
-                      std::min(k - config_.submap_keyframes,
-                               j + config_.loop_submap_half_width),
-                      j_inv);
-    MatchTarget target;
-    target.Build(VoxelFilter(submap, config_.submap_voxel),
-                 config_.icp.max_correspondence_distance,
-                 config_.normal_radius);
-    // The search on a sparser copy of the query (its cost is linear in the
-    // points), ICP on the whole query.
-    double score = 0.0;
-    const Pose2 coarse =
-        target.Correlative(search_query, j_inv * pose_k, search, &score);
-    MatchResult match = target.Icp(query, coarse, config_.icp);
-    match.score = score;
-    ++stats_.closures_proposed;
-    if (!LoopMatchPasses(match, config_)) {
-      continue;
-    }
-    // Geometric consistency: the correction this closure implies (the
-    // transform taking k's estimate to where the match puts it) must agree
-    // with one of another recent keyframe's passing matches.
-    LoopHypothesis h{k,
-                     j,
-                     match.pose,
-                     match.covariance,
-                     pose_j * match.pose * pose_k.Inverse(),
-                     false};
-    bool consistent = false;
-    for (LoopHypothesis& other : hypotheses_) {
-      if (k - other.k > config_.loop_consistency_keyframes || other.k == k) {
+    const int j = candidate.index;
+    accepted |= VerifyLoop(k, j, KeyframePose(j).Inverse() * pose_k,
+                           anchored ? nullptr : &search, false, query,
+                           search_query, &significant);
+  }
+  // Global search: the local searches have found nothing for
+  // loop_global_min_path metres; the places outside their radius whose
+  // Scan Context is nearest are verified over a wide window.
+  const int loop_index = k / std::max(1, config_.loop_every);
+  if (global && !accepted &&
+      current.path - last_closure_path_ >= config_.loop_global_min_path &&
+      loop_index % std::max(1, config_.loop_global_every) == 0) {
+    std::vector<std::pair<double, int>> by_key;
+    for (int j = 0; j < static_cast<int>(radii.size()); ++j) {
+      if (radii[j] < 0 || keyframes_[j].context.empty() ||
+          (KeyframePose(j).t - pose_k.t).norm() <= radii[j] ||
+          PlaceSaturated(j)) {
         continue;
       }
-      const Pose2 diff = other.correction.Inverse() * h.correction;
-      if (diff.t.norm() > config_.loop_consistency_distance ||
-          std::abs(diff.theta) > config_.loop_consistency_angle) {
-        continue;
-      }
-      consistent = true;
-      if (!other.added) {
-        AddBetween(other.j, other.k, other.z, MatchCovariance(other),
-                   MakeLoss(config_.loop_kernel), true);
-        other.added = true;
-        ++stats_.closures_accepted;
+      by_key.push_back(
+          {RingKeyDistance(current.context, keyframes_[j].context), j});
+    }
+    const size_t preselect = std::min<size_t>(
+        by_key.size(), std::max(1, config_.loop_global_preselect));
+    std::partial_sort(by_key.begin(), by_key.begin() + preselect, by_key.end());
+    struct Place {
+      double distance;
+      int index;
+      double rotation;
+    };
+    std::vector<Place> places;
+    for (size_t i = 0; i < preselect; ++i) {
+      double rotation = 0.0;
+      const double d = ScanContextDistance(
+          current.context, keyframes_[by_key[i].second].context, &rotation);
+      if (d <= config_.loop_global_max_distance) {
+        places.push_back({d, by_key[i].second, rotation});
       }
     }
-    if (consistent) {
-      AddBetween(j, k, match.pose, MatchCovariance(match),
-                 MakeLoss(config_.loop_kernel), true);
-      h.added = true;
-      ++stats_.closures_accepted;
-      accepted = true;
-      last_closure_path_ = current.path;
+    std::sort(places.begin(), places.end(), [](const Place& a, const Place& b) {
+      return a.distance < b.distance;
+    });
+    std::vector<int> tried;
+    for (const Place& place : places) {
+      if (static_cast<int>(tried.size()) >= config_.loop_global_candidates) {
+        break;
+      }
+      bool near_tried = false;
+      for (int o : tried) {
+        near_tried |=
+            std::abs(o - place.index) <= 2 * config_.loop_submap_half_width;
+      }
+      if (near_tried) continue;
+      tried.push_back(place.index);
+      CorrelativeOptions search = config_.loop_correlative;
+      search.window_xy = config_.loop_global_window;
+      ++stats_.global_closures_proposed;
+      VerifyLoop(k, place.index, Pose2(0.0, 0.0, place.rotation), &search, true,
+                 query, search_query, &significant);
     }
-    hypotheses_.push_back(h);
   }
   hypotheses_.erase(std::remove_if(hypotheses_.begin(), hypotheses_.end(),
                                    [&](const LoopHypothesis& o) {
@@ -373,7 +498,199 @@ bool LaserSlam::DetectLoopClosures(int k) {
                                             config_.loop_consistency_keyframes;
                                    }),
                     hypotheses_.end());
-  return accepted;
+  return significant;
+}
+
+bool LaserSlam::VerifyLoop(int k, int j, const Pose2& guess,
+                           const CorrelativeOptions* search, bool global,
+                           const Points2& query, const Points2& search_query,
+                           bool* significant) {
+  const Pose2 pose_k = KeyframePose(k);
+  const Pose2 pose_j = KeyframePose(j);
+  const Points2 submap =
+      KeyframeCloud(std::max(0, j - config_.loop_submap_half_width),
+                    std::min(k - config_.submap_keyframes,
+                             j + config_.loop_submap_half_width),
+                    pose_j.Inverse());
+  MatchTarget target;
+  target.Build(VoxelFilter(submap, config_.submap_voxel),
+               config_.icp.max_correspondence_distance, config_.normal_radius);
+  // The search on a sparser copy of the query (its cost is linear in the
+  // points), ICP on the whole query.
+  // Without a search (anchored), ICP alone may only correct the guess
+  // slightly, as in the final pass.
+  double score = 0.0;
+  const Pose2 coarse =
+      search != nullptr
+          ? target.Correlative(search_query, guess, *search, &score)
+          : guess;
+  MatchResult match = target.Icp(query, coarse, config_.icp);
+  match.score = score;
+  ++stats_.closures_proposed;
+  if (search == nullptr) {
+    LaserSlamConfig checks = config_;
+    checks.loop_min_score = 0.0;
+    if (!LoopMatchPasses(match, checks) ||
+        !SmallMotion(match.pose, guess, config_.loop_final_max_correction,
+                     config_.loop_final_max_correction)) {
+      return false;
+    }
+  } else if (!LoopMatchPasses(match, config_)) {
+    return false;
+  }
+  // Geometric consistency: the correction this closure implies (the
+  // transform taking k's estimate to where the match puts it) must agree
+  // with another recent keyframe's passing matches (global ones: with
+  // loop_global_min_agreeing of them).
+  LoopHypothesis h{k,
+                   j,
+                   match.pose,
+                   match.covariance,
+                   pose_j * match.pose * pose_k.Inverse(),
+                   false,
+                   global};
+  // A correction the chi2 test has undone recently is not tried again.
+  for (const auto& [when, correction] : undone_corrections_) {
+    const Pose2 diff = correction.Inverse() * h.correction;
+    if (k - when <= config_.loop_undone_memory &&
+        diff.t.norm() <= config_.loop_consistency_distance * 10 &&
+        std::abs(diff.theta) <= config_.loop_consistency_angle * 10) {
+      return false;
+    }
+  }
+  std::vector<LoopHypothesis*> agreeing;
+  for (LoopHypothesis& other : hypotheses_) {
+    if (k - other.k > config_.loop_consistency_keyframes || other.k == k) {
+      continue;
+    }
+    const Pose2 diff = other.correction.Inverse() * h.correction;
+    if (diff.t.norm() <= config_.loop_consistency_distance &&
+        std::abs(diff.theta) <= config_.loop_consistency_angle) {
+      agreeing.push_back(&other);
+    }
+  }
+  bool any_global = global;
+  for (const LoopHypothesis* other : agreeing) any_global |= other->global;
+  const size_t needed =
+      any_global ? std::max(1, config_.loop_global_min_agreeing) : 1;
+  if (agreeing.size() < needed) {
+    hypotheses_.push_back(h);
+    return false;
+  }
+  agreeing.push_back(&h);
+  const LaserSlamStats stats_before = stats_;
+  // Whether the place was closed on an earlier visit (a closure from a
+  // keyframe more than loop_min_separation of path before k).
+  bool place_closed = false;
+  for (int m = std::max(0, j - config_.loop_submap_half_width);
+       m <= std::min(k, j + config_.loop_submap_half_width); ++m) {
+    place_closed |= keyframes_[m].first_closed_path <
+                    keyframes_[k].path - config_.loop_min_separation;
+  }
+  for (LoopHypothesis* a : agreeing) {
+    if (a->added) continue;
+    const Pose2 before = KeyframePose(a->k);
+    const Pose2 after = KeyframePose(a->j) * a->z;
+    *significant |= NoteCorrection(before, after);
+    // A large correction (a global closure, or drift the local search
+    // caught) lies far outside the robust kernel's width: the first
+    // optimization applies it without the kernel, and the chi2 test of
+    // ApplyPlainClosures decides whether it stays.
+    const bool plain = !SmallMotion(before, after, 2.0, 0.35);
+    const FactorId id =
+        AddBetween(a->j, a->k, a->z, MatchCovariance(*a),
+                   plain ? nullptr : MakeLoss(config_.loop_kernel), true);
+    if (plain && id >= 0) plain_closures_.push_back({id, *a});
+    a->added = true;
+    ++stats_.closures_accepted;
+    if (a->global) ++stats_.global_closures_accepted;
+    double& first = keyframes_[a->j].first_closed_path;
+    first = std::min(first, keyframes_[a->k].path);
+  }
+  hypotheses_.push_back(h);
+  if (!plain_closures_.empty()) {
+    // Optimize now: each group of large corrections is tested on its own.
+    if (!ApplyPlainClosures()) {
+      // Undone: neither counted nor kept as evidence for later matches.
+      undone_corrections_.emplace_back(k, h.correction);
+      undone_corrections_.erase(
+          std::remove_if(undone_corrections_.begin(), undone_corrections_.end(),
+                         [&](const std::pair<int, Pose2>& u) {
+                           return k - u.first > config_.loop_undone_memory;
+                         }),
+          undone_corrections_.end());
+      stats_.largest_correction_m = stats_before.largest_correction_m;
+      stats_.largest_correction_deg = stats_before.largest_correction_deg;
+      hypotheses_.erase(
+          std::remove_if(hypotheses_.begin(), hypotheses_.end(),
+                         [](const LoopHypothesis& o) { return o.added; }),
+          hypotheses_.end());
+      return false;
+    }
+    *significant = false;
+  }
+  last_closure_path_ = keyframes_[k].path;
+  if (place_closed) anchored_from_path_ = keyframes_[k].path;
+  return true;
+}
+
+bool LaserSlam::ApplyPlainClosures() {
+  // The chi2 of every other factor (robustified where it has a kernel):
+  // how much the closures make the rest of the graph bend.
+  auto rest_chi2 = [&]() {
+    double sum = 0.0;
+    for (const auto& [id, factor] : graph_.factors()) {
+      bool plain = false;
+      for (const auto& p : plain_closures_) plain |= p.first == id;
+      double chi2 = 0.0;
+      if (plain || !graph_.FactorChi2(factor, &chi2)) continue;
+      double rho[3] = {chi2, 1.0, 0.0};
+      if (factor.loss) factor.loss->Evaluate(chi2, rho);
+      sum += rho[0];
+    }
+    return sum;
+  };
+  const int n = static_cast<int>(keyframes_.size());
+  std::vector<std::vector<double>> saved(n);
+  for (int k = 0; k < n; ++k) saved[k] = graph_.FindNode(Pose2Key(k))->value;
+  const Pose2 saved_tracked = tracked_;
+  const double before = rest_chi2();
+  OptimizeGraph(0);
+  const double increase = rest_chi2() - before;
+  last_optimized_keyframe_ = n - 1;
+  pending_loop_ = false;
+  const bool keep = increase <= config_.loop_global_max_chi2;
+  for (const auto& [id, h] : plain_closures_) {
+    if (graph_.FindFactor(id) == nullptr) continue;
+    graph_.RemoveFactor(id);
+    loop_factors_.erase(
+        std::remove(loop_factors_.begin(), loop_factors_.end(), id),
+        loop_factors_.end());
+    --keyframes_[h.j].closures;
+    --keyframes_[h.k].closures;
+    if (keep) {
+      AddBetween(h.j, h.k, h.z, MatchCovariance(h),
+                 MakeLoss(config_.loop_kernel), true);
+    } else {
+      --stats_.closures_accepted;
+      if (h.global) --stats_.global_closures_accepted;
+      ++stats_.closures_reverted;
+    }
+  }
+  plain_closures_.clear();
+  if (keep) {
+    OptimizeGraph(0);
+    return true;
+  }
+  // The closures would bend the graph beyond what its factors allow: a
+  // wrong match; the graph returns to where it was.
+  for (int k = 0; k < n; ++k) {
+    std::vector<double>& value = graph_.FindNode(Pose2Key(k))->value;
+    std::copy(saved[k].begin(), saved[k].end(), value.begin());
+  }
+  tracked_ = saved_tracked;
+  RebuildLocalSubmap();
+  return false;
 }
 
 void LaserSlam::OptimizeGraph(int max_iterations) {
@@ -436,7 +753,7 @@ void LaserSlam::CloseLoopsFinal() {
         continue;
       }
       const double d2 = (poses[j].t - poses[k].t).squaredNorm();
-      if (d2 <= r2) candidates.push_back({d2, j});
+      if (d2 <= r2 && !PlaceSaturated(j)) candidates.push_back({d2, j});
     }
     if (candidates.empty()) continue;
     std::sort(candidates.begin(), candidates.end());
@@ -475,6 +792,7 @@ void LaserSlam::CloseLoopsFinal() {
       }
       AddBetween(j, k, match.pose, MatchCovariance(match),
                  MakeLoss(config_.loop_kernel), true);
+      NoteCorrection(poses[k], poses[j] * match.pose);
       ++stats_.final_closures_accepted;
     }
   }

@@ -14,7 +14,11 @@
 //     corridors. When ICP fails, fits poorly (fitness below
 //     min_tracking_fitness) or jumps more than max_tracking_jump from the
 //     prediction, a correlative search (local_correlative) refined by ICP is
-//     tried; if that fails too the prediction is kept.
+//     tried; if that fails too the prediction is kept. Robust tracking
+//     (robust_tracking): the odometry is a prior, not the truth; when its
+//     increment is implausible or the match fits badly, ICP from the
+//     constant-velocity prediction competes, the better fit wins, and the
+//     keyframe odometry factor across a rejected increment is dropped.
 //  4. Keyframes: when the tracked pose has moved keyframe_distance or turned
 //     keyframe_rotation since the last keyframe, the scan becomes a keyframe
 //     (a Pose2 node, id = keyframe index, stamped). Two factors join it to
@@ -38,8 +42,16 @@
 //     it implies agrees (loop_consistency_distance / _angle) with a passing
 //     match of another keyframe within loop_consistency_keyframes; both then
 //     enter the graph as between factors with the robust kernel loop_kernel.
-//  6. Optimization: after a loop closure (at most every
-//     loop_optimize_interval keyframes) and every optimize_every keyframes,
+//     Places already holding loop_place_max_closures closures are skipped.
+//     When nothing closes for loop_global_min_path metres, a global search
+//     (loop_global_*) proposes places outside the radius by their Scan
+//     Context (frontends/laser/scan_context.h) and verifies them the same
+//     way, with more agreeing matches; closures with large corrections are
+//     optimized without the kernel first and undone when they raise the
+//     chi2 of the rest of the graph by more than loop_global_max_chi2.
+//  6. Optimization: after a loop closure moving its keyframe by at least
+//     loop_optimize_min_correction (at most every loop_optimize_interval
+//     keyframes) and every optimize_every keyframes,
 //     with at most incremental_iterations iterations; the tracked pose
 //     follows its keyframe. Finish() optimizes to convergence, then counts
 //     the closures whose robust weight rho'(chi2) ended below
@@ -63,6 +75,7 @@
 #include "datasets/carmen_io.h"
 #include "factors/robust_kernels.h"
 #include "frontends/laser/odometry_model.h"
+#include "frontends/laser/scan_context.h"
 #include "frontends/laser/scan_matcher.h"
 
 namespace slam {
@@ -84,6 +97,26 @@ struct LaserSlamConfig {
   // Correlative search before ICP on every scan (else only when ICP fails).
   bool always_correlative = false;
   double max_tracking_jump = 0.5;  // m (and the same number in rad).
+  // Robust tracking: the odometry is a prior, not the truth (wheel
+  // encoders freeze and then jump, wheels slip). An odometry increment that
+  // differs from the last tracked one by more than max_tracking_jump is
+  // implausible and not used. When the odometry-prior ICP fails or fits
+  // below tracking_recheck_ratio times the running mean of the tracking
+  // fitness, ICP is also tried from the constant-velocity prediction (with
+  // a prior of the last tracked motion's information), then the
+  // correlative search, and the best fit wins (an alternative must beat
+  // the odometry's fitness by tracking_recheck_margin). When the chosen
+  // match is not the odometry's and the odometry increment's chi2 against
+  // it exceeds odometry_break_chi2, the odometry is rejected for that
+  // scan: the keyframe odometry factor spanning it is dropped (kept with
+  // its standard deviations times odometry_break_inflation when no scan
+  // match joins the two keyframes), chain links use the tracked motion as
+  // prior.
+  bool robust_tracking = true;
+  double tracking_recheck_ratio = 0.7;
+  double tracking_recheck_margin = 0.05;
+  double odometry_break_chi2 = 100.0;
+  double odometry_break_inflation = 100.0;
   // Tracking ICP is pulled towards the odometry prediction with the
   // odometry increment's information (odometry model below) times this
   // weight, converted to ICP's units with icp.sigma_min^2 *
@@ -117,6 +150,25 @@ struct LaserSlamConfig {
   double loop_search_voxel = 0.2;  // m; further thinning for the search.
   CorrelativeOptions loop_correlative{0.05, 6, 0.05, 1.5, 0.35, 0.01};
   int loop_every = 2;  // Check every n-th keyframe.
+  // A place (keyframes j-h..j+h, h = loop_submap_half_width) that already
+  // holds this many closures is not searched again (incremental and final
+  // pass): more closures add little there, and searching every revisit of
+  // every place makes the cost grow with the square of the log length
+  // (a log played three times cost 8.8 times one playing). <= 0: no limit.
+  int loop_place_max_closures = 32;
+  // For this many metres of path after a closure accepted against a place
+  // closed on an earlier visit (visited at least three times), the
+  // estimate is anchored to a well-connected map: local candidates are
+  // verified by ICP alone from the estimate (no correlative search; the
+  // match may move k by at most loop_final_max_correction), which keeps
+  // the loop search cost of repeated traversals near that of the first
+  // (a log played three times cost 8.8 times one playing). 0: always
+  // search.
+  double loop_anchored_path = 10.0;
+  // An accepted closure triggers an incremental optimization only when it
+  // moves its keyframe by at least this (m, and the same number in rad);
+  // smaller corrections wait for the periodic and the final optimization.
+  double loop_optimize_min_correction = 0.05;
   double loop_min_score = 0.2;
   int loop_min_inliers = 100;
   double loop_min_fitness = 0.0;  // Inliers / query points (overlap).
@@ -131,6 +183,40 @@ struct LaserSlamConfig {
   double loop_consistency_angle = 0.02;    // rad.
   RobustKernelSpec loop_kernel{"cauchy", 3.0};
   double loop_reject_weight = 0.1;
+  // Global loop search, for drift beyond the local radius. At every
+  // loop_global_every-th loop check without an accepted closure when no
+  // closure was accepted for loop_global_min_path metres of path: the
+  // loop query's Scan Context (scan_context.h, loop_context; stored per
+  // keyframe) is compared with those of the older keyframes outside the
+  // local radius (loop_min_separation of path away, place not saturated):
+  // the loop_global_preselect nearest by ring key, then the
+  // loop_global_candidates (from different places) with the smallest
+  // descriptor distance, at most loop_global_max_distance, are verified
+  // like local candidates but from the descriptor's rotation over
+  // +-loop_global_window (m). A global match is accepted only when
+  // loop_global_min_agreeing other passing matches of recent keyframes
+  // imply the same correction (local ones need one). Closures (global or
+  // local) moving their keyframe by more than 2 m or 0.35 rad are first
+  // optimized without the robust kernel (far outside its width they would
+  // get no weight), then given the kernel like every closure, or undone
+  // (loop_global_max_chi2).
+  bool loop_global = true;
+  ScanContextOptions loop_context;
+  double loop_global_min_path = 10.0;  // m.
+  int loop_global_every = 2;
+  int loop_global_preselect = 10;
+  int loop_global_candidates = 2;
+  double loop_global_max_distance = 0.5;
+  double loop_global_window = 3.0;  // m.
+  int loop_global_min_agreeing = 2;
+  // The first optimization with such closures (see above) may raise the
+  // chi2 of the other factors by at most this; else the closures are
+  // removed and the graph restored (a wrong match bends the whole chain).
+  double loop_global_max_chi2 = 100.0;
+  // For this many keyframes, a passing match whose correction is within 10
+  // times loop_consistency_distance / _angle of an undone one is dropped
+  // without another test (each test is a full optimization).
+  int loop_undone_memory = 50;
   // Final loop-closure pass (Finish, after the first global optimization
   // and rejection): the map is now consistent, so every loop_every-th
   // keyframe k is matched by ICP alone, from the optimized relative pose,
@@ -176,8 +262,19 @@ struct LaserSlamStats {
   int keyframes = 0;
   int tracking_correlative = 0;  // Scans that needed the correlative search.
   int tracking_failures = 0;     // Scans left at the odometry prediction.
-  int closures_proposed = 0;     // Candidates verified by matching.
-  int closures_accepted = 0;
+  int tracking_rechecks = 0;     // Scans also matched from constant velocity.
+  int odometry_rejected = 0;     // Scans whose odometry tracking rejected.
+  int odometry_factors_dropped = 0;   // Keyframe odometry factors dropped...
+  int odometry_factors_weakened = 0;  // ... or down-weighted (no scan match).
+  int closures_proposed = 0;          // Candidates verified by matching.
+  int closures_accepted = 0;          // Incremental (local + global).
+  int global_closures_proposed = 0;   // Global search (place recognition).
+  int global_closures_accepted = 0;
+  int closures_reverted = 0;  // Large corrections undone by the chi2 test.
+  // Largest correction an accepted closure implied for its keyframe's
+  // estimate when it was accepted (m, deg).
+  double largest_correction_m = 0.0;
+  double largest_correction_deg = 0.0;
   int closures_rejected = 0;        // Accepted, then down-weighted (Finish).
   int final_closures_proposed = 0;  // Final pass (Finish).
   int final_closures_accepted = 0;
@@ -238,11 +335,19 @@ class LaserSlam {
     Pose2 odom;
     double path = 0.0;                    // Path length from the start (m).
     std::shared_ptr<MatchTarget> target;  // Own points (chain links).
+    // Tracking rejected the odometry between keyframe k-1 and k.
+    bool odometry_break = false;
+    int closures = 0;  // Loop-closure factors joined to this keyframe.
+    // Path (of the other keyframe) of the first closure to this one.
+    double first_closed_path = 1e300;
+    ScanContext context;  // Of the loop query (global search).
   };
 
   void AddKeyframe(const LaserScan& scan, const Points2& points,
                    const MatchResult* match);
   void RebuildLocalSubmap();
+  // True when an accepted closure moves its keyframe by at least
+  // loop_optimize_min_correction.
   bool DetectLoopClosures(int k);
   void OptimizeGraph(int max_iterations);
   void RefineScans();
@@ -251,6 +356,13 @@ class LaserSlam {
   IcpPrior OdometryPrior(const Pose2& pose, const Pose2& odom_from,
                          const Pose2& odom_to) const;
   void CloseLoopsFinal();
+  // Updates the largest-correction statistics with an accepted closure's:
+  // it moves a keyframe from `before` to `after`. True when the move is
+  // at least loop_optimize_min_correction.
+  bool NoteCorrection(const Pose2& before, const Pose2& after);
+  // Keyframes j-h..j+h (h = loop_submap_half_width) already hold
+  // loop_place_max_closures closures.
+  bool PlaceSaturated(int j) const;
   // Removes the closures the robust kernel has switched off (counted in
   // closures_rejected) and optimizes again.
   void RejectClosures();
@@ -261,8 +373,9 @@ class LaserSlam {
   Eigen::Matrix3d MatchCovariance(const MatchResult& match) const;
   Eigen::Matrix3d MatchCovariance(const LoopHypothesis& h) const;
   Eigen::Matrix3d MatchCovariance(const Eigen::Matrix3d& c) const;
-  void AddBetween(int i, int j, const Pose2& z, const Eigen::Matrix3d& cov,
-                  std::shared_ptr<ceres::LossFunction> loss, bool loop);
+  // The factor's id, -1 when cov is not positive definite.
+  FactorId AddBetween(int i, int j, const Pose2& z, const Eigen::Matrix3d& cov,
+                      std::shared_ptr<ceres::LossFunction> loss, bool loop);
 
   LaserSlamConfig config_;
   Graph graph_;
@@ -274,18 +387,39 @@ class LaserSlam {
   Pose2 ScanPose(size_t i) const;     // Output pose of scan i.
   std::vector<FactorId> loop_factors_;
   MatchTarget local_submap_;
-  Pose2 tracked_;    // Robot pose of the last scan (world).
-  Pose2 last_odom_;  // Odometry pose of the last scan.
+  Pose2 tracked_;                // Robot pose of the last scan (world).
+  Pose2 last_odom_;              // Odometry pose of the last scan.
+  Pose2 velocity_;               // Tracked increment of the last scan.
+  double recent_fitness_ = 0.0;  // Running mean of the tracking fitness.
+  bool odometry_break_ = false;  // Since the last keyframe.
   double path_ = 0.0;
   int last_optimized_keyframe_ = 0;
   double last_closure_path_ = -1e300;
+  double anchored_from_path_ = -1e300;  // loop_anchored_path.
   struct LoopHypothesis {
     int k, j;
     Pose2 z;
     Eigen::Matrix3d covariance;
     Pose2 correction;
     bool added;
+    bool global;  // Found by the global search.
   };
+  // Verifies candidate j for keyframe k: correlative search from `guess`
+  // (k in j's frame) over `search`, ICP, LoopMatchPasses, consistency; adds
+  // the closures that pass. True when some were added; sets *significant
+  // when one moves its keyframe by loop_optimize_min_correction.
+  bool VerifyLoop(int k, int j, const Pose2& guess,
+                  const CorrelativeOptions* search, bool global,
+                  const Points2& query, const Points2& search_query,
+                  bool* significant);
+  // Optimizes with the closures added without the robust kernel (large
+  // corrections), then gives them the kernel; or, when they raise the chi2
+  // of the rest of the graph by more than loop_global_max_chi2, removes
+  // them and restores the graph (false).
+  bool ApplyPlainClosures();
+  std::vector<std::pair<FactorId, LoopHypothesis>> plain_closures_;
+  // Keyframe and correction of the closures the chi2 test undid.
+  std::vector<std::pair<int, Pose2>> undone_corrections_;
   std::vector<LoopHypothesis> hypotheses_;
   bool pending_loop_ = false;
 };

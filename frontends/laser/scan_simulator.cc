@@ -1,5 +1,6 @@
 #include "frontends/laser/scan_simulator.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -40,6 +41,33 @@ std::vector<float> SimulateScan(const std::vector<Wall>& walls,
     ranges[i] = static_cast<float>(r);
   }
   return ranges;
+}
+
+std::vector<Pose2> ApplyOdometryFault(const std::vector<Pose2>& odometry,
+                                      const OdometryFault& fault) {
+  std::vector<Pose2> out = odometry;
+  const int n = static_cast<int>(odometry.size());
+  if (fault.first < 1 || fault.first >= n) return out;
+  for (int i = fault.first; i < n; ++i) {
+    Pose2 step = odometry[i - 1].Inverse() * odometry[i];
+    const bool inside = i < fault.first + std::max(1, fault.length);
+    switch (fault.kind) {
+      case OdometryFault::kFreeze:
+        out[i] = inside
+                     ? out[i - 1]
+                     : out[fault.first - 1] *
+                           (odometry[fault.first - 1].Inverse() * odometry[i]);
+        continue;
+      case OdometryFault::kJump:
+        if (i == fault.first) step = step * fault.jump;
+        break;
+      case OdometryFault::kRotationSlip:
+        if (inside) step.theta *= fault.rotation_scale;
+        break;
+    }
+    out[i] = out[i - 1] * step;
+  }
+  return out;
 }
 
 }  // namespace slam

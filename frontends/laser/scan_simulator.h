@@ -33,6 +33,28 @@ std::vector<float> SimulateScan(const std::vector<Wall>& walls,
                                 const ScanGeometry& geometry, double sigma,
                                 std::mt19937* rng);
 
+// Odometry faults seen in real logs, applied to a clean odometry sequence
+// (one pose per scan):
+//  - kFreeze: the odometry repeats pose first-1 for scans first ..
+//    first+length-1, then catches up at once (the increments after the
+//    freeze are right again): MIT CSAIL's wheel-encoder dropout.
+//  - kJump: the increment into scan `first` is composed with `jump` (a wrong
+//    increment), all later increments are right, so every later pose is off
+//    by it.
+//  - kRotationSlip: the rotation of the increments into scans first ..
+//    first+length-1 is multiplied by `rotation_scale` (wheels slipping in a
+//    turn), the later increments are right.
+struct OdometryFault {
+  enum Kind { kFreeze, kJump, kRotationSlip };
+  Kind kind = kFreeze;
+  int first = 1;
+  int length = 1;
+  Pose2 jump;
+  double rotation_scale = 1.0;
+};
+std::vector<Pose2> ApplyOdometryFault(const std::vector<Pose2>& odometry,
+                                      const OdometryFault& fault);
+
 }  // namespace slam
 
 #endif  // SLAM_FRONTENDS_LASER_SCAN_SIMULATOR_H_
