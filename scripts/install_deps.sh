@@ -8,7 +8,7 @@ packages=(
   libceres-dev libeigen3-dev libsuitesparse-dev
   libopencv-dev libgflags-dev libgoogle-glog-dev libyaml-cpp-dev
   libgtest-dev libgmock-dev
-  python3 python3-yaml zlib1g-dev libbz2-dev
+  python3 python3-yaml python3-numpy python3-opencv zlib1g-dev libbz2-dev
   clang libclang-rt-14-dev bzip2  # Fuzzing (scripts/fuzz.sh).
 )
 
