@@ -301,8 +301,13 @@ void LaserSlam::AddKeyframe(const LaserScan& scan, const Points2& points,
   node->stamp = scan.stamp;
   node->has_stamp = true;
   if (k == 0) graph_.SetFixed(Pose2Key(0), true);
-  keyframes_.push_back(
-      {scan.stamp, points, scan.odom, path_, nullptr, odometry_break_});
+  Keyframe keyframe;
+  keyframe.stamp = scan.stamp;
+  keyframe.points = points;
+  keyframe.odom = scan.odom;
+  keyframe.path = path_;
+  keyframe.odometry_break = odometry_break_;
+  keyframes_.push_back(std::move(keyframe));
   odometry_break_ = false;
   ++stats_.keyframes;
   if (k > 0) {
