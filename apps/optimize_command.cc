@@ -199,9 +199,28 @@ bool IsForest(const Graph& graph) {
 
 // Poses by the method, then (landmarks_from_observations) the landmarks
 // again from their observations, since the poses moved.
+// The initialization's limits on sparse factors are the optimizer's.
+InitOptions InitOptionsOf(const OptimizerOptions& optimizer) {
+  InitOptions options;
+  options.max_factor_bytes = optimizer.max_factor_bytes;
+  options.max_factor_flops = optimizer.max_factor_flops;
+  options.iterative_fallback = optimizer.iterative_fallback;
+  return options;
+}
+
 bool InitializeWith(InitMethod method, bool landmarks_from_observations,
-                    Graph* graph, std::string* error) {
-  if (!InitializePoses(graph, method, error)) return false;
+                    const InitOptions& options, Graph* graph,
+                    std::string* error) {
+  InitReport report;
+  const bool ok =
+      InitializePoses(graph, method, error, nullptr, options, &report);
+  if (report.backend == LinearBackend::kIterative) {
+    std::printf(
+        "chordal initialization: no sparse factor fits, conjugate gradients "
+        "(%d iterations, relative residual %.2g)\n",
+        report.iterative_iterations, report.iterative_error);
+  }
+  if (!ok) return false;
   if (landmarks_from_observations && method != InitMethod::kNone) {
     const LandmarkInitReport report = InitializeLandmarks(graph);
     if (report.failed > 0) {
@@ -291,7 +310,8 @@ int OptimizeInStages(int stages, const OptimizerOptions& options,
 // Runs the configured initialization; returns the name of what was used.
 // Graphs without relative-pose factors (bundle adjustment) keep their poses.
 bool Initialize(const std::string& init, bool landmarks_from_observations,
-                Graph* graph, std::string* used, std::string* error) {
+                const InitOptions& options, Graph* graph, std::string* used,
+                std::string* error) {
   if (!HasBetweenFactors(*graph)) {
     *used = "file (no relative-pose factors)";
     return true;
@@ -300,7 +320,8 @@ bool Initialize(const std::string& init, bool landmarks_from_observations,
     InitMethod method;
     ParseInitMethod(init, &method);
     *used = init;
-    return InitializeWith(method, landmarks_from_observations, graph, error);
+    return InitializeWith(method, landmarks_from_observations, options, graph,
+                          error);
   }
   // Relative-pose factors forming a forest (pure odometry, as in landmark
   // SLAM files like Victoria Park) are satisfied exactly by composing them:
@@ -313,7 +334,8 @@ bool Initialize(const std::string& init, bool landmarks_from_observations,
   // spread outlier loop closures over the whole graph scores badly there.
   const double file_chi2 = graph->RobustChi2();
   const std::vector<std::vector<double>> file_values = SaveValues(*graph);
-  if (!InitializeWith(method, landmarks_from_observations, graph, error)) {
+  if (!InitializeWith(method, landmarks_from_observations, options, graph,
+                      error)) {
     return false;
   }
   const double computed_chi2 = graph->RobustChi2();
@@ -491,7 +513,8 @@ int RunOptimizeCommand(const std::vector<std::string>& args) {
                     : "values from the input");
   }
   const PixelErrorStats pixels_before = CameraPixelErrors(graph);
-  if (!Initialize(config.init, landmarks_from_observations, &graph, &init_used,
+  if (!Initialize(config.init, landmarks_from_observations,
+                  InitOptionsOf(config.optimizer), &graph, &init_used,
                   &error)) {
     std::cerr << "slam optimize: initialization failed: " << error << "\n";
     return 1;

@@ -37,7 +37,9 @@ bool LoadOptimizeConfig(const std::string& path, OptimizeConfig* config,
                        "initial_trust_region_radius", "linear_solver",
                        "ordering", "sparse_library", "num_threads", "verbose",
                        "repair_information", "robust", "nonmonotonic_steps",
-                       "landmark_stages", "gauss_newton_probe_iterations"},
+                       "landmark_stages", "gauss_newton_probe_iterations",
+                       "max_factor_bytes", "max_factor_flops",
+                       "iterative_fallback", "max_linear_solver_iterations"},
                       path, error)) {
     return false;
   }
@@ -66,7 +68,15 @@ bool LoadOptimizeConfig(const std::string& path, OptimizeConfig* config,
       !ReadOptional(node, "landmark_stages", path, &config->landmark_stages,
                     error) ||
       !ReadOptional(node, "gauss_newton_probe_iterations", path,
-                    &o.gauss_newton_probe_iterations, error)) {
+                    &o.gauss_newton_probe_iterations, error) ||
+      !ReadOptional(node, "max_factor_bytes", path, &o.max_factor_bytes,
+                    error) ||
+      !ReadOptional(node, "max_factor_flops", path, &o.max_factor_flops,
+                    error) ||
+      !ReadOptional(node, "iterative_fallback", path, &o.iterative_fallback,
+                    error) ||
+      !ReadOptional(node, "max_linear_solver_iterations", path,
+                    &o.max_linear_solver_iterations, error)) {
     return false;
   }
   if (!ParseSolverKind(solver, &o.solver)) {
@@ -118,6 +128,13 @@ bool ValidateOptimizeConfig(const OptimizeConfig& config, std::string* error) {
   }
   if (o.num_threads < 1) {
     *error = "num_threads must be >= 1";
+    return false;
+  }
+  if (!(o.max_factor_bytes >= 0) || !(o.max_factor_flops > 0) ||
+      o.max_linear_solver_iterations < 1) {
+    *error =
+        "max_factor_bytes must be >= 0, max_factor_flops > 0, "
+        "max_linear_solver_iterations >= 1";
     return false;
   }
   if (o.linear_solver != "auto" &&
@@ -176,6 +193,12 @@ std::string OptimizeConfigToYaml(const OptimizeConfig& config) {
       << "  linear_solver: " << o.linear_solver << "\n"
       << "  ordering: " << o.ordering << "\n"
       << "  sparse_library: " << o.sparse_library << "\n"
+      << "  max_factor_bytes: " << o.max_factor_bytes << "\n"
+      << "  max_factor_flops: " << o.max_factor_flops << "\n"
+      << "  iterative_fallback: " << (o.iterative_fallback ? "true" : "false")
+      << "\n"
+      << "  max_linear_solver_iterations: " << o.max_linear_solver_iterations
+      << "\n"
       << "  num_threads: " << o.num_threads << "\n"
       << "  verbose: " << (o.verbose ? "true" : "false") << "\n"
       << "  repair_information: "

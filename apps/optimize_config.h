@@ -18,6 +18,10 @@
 //                           # eliminated first when there are landmarks)
 //     ordering: auto        # auto | amd | metis | nesdis | ceres
 //     sparse_library: auto  # auto | suite_sparse | eigen_sparse | cx_sparse
+//     max_factor_bytes: 0   # sparse factors (initialization and solver)
+//     max_factor_flops: 1e12 # beyond these (0 bytes: half the memory) ...
+//     iterative_fallback: true  # ... conjugate gradients, else the factor
+//     max_linear_solver_iterations: 500  # CGNR steps (core/optimizer.h)
 //     num_threads: 1        # Ceres threads (1 measured fastest on 2 cores)
 //     verbose: true         # one line per iteration
 //     repair_information: false

@@ -9,9 +9,9 @@
 #include <utility>
 #include <vector>
 
-#include <unistd.h>
 #include <Eigen/CholmodSupport>
 #include <Eigen/Core>
+#include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SVD>
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
@@ -195,15 +195,23 @@ struct LinearTerm {
 //                 factors (many loop closures) run on BLAS kernels, and
 //                 factors beyond 2^31 nonzeros, which overflow Eigen's int
 //                 indices, still fit.
+//   kIterative    conjugate gradients preconditioned by an incomplete
+//                 Cholesky factor (int indices: the system itself, not its
+//                 factor, must fit), warm-started from the current values.
 class NormalEquationsSolver {
  public:
-  explicit NormalEquationsSolver(LinearBackend backend) : backend_(backend) {
+  NormalEquationsSolver(LinearBackend backend, const InitOptions& options)
+      : backend_(backend) {
     if (backend_ == LinearBackend::kSupernodal) {
       cholmod_.cholmod().nmethods = 1;
       cholmod_.cholmod().method[0].ordering = CHOLMOD_NATURAL;
     }
+    cg_.setTolerance(options.iterative_tolerance);
+    cg_.setMaxIterations(options.max_iterative_iterations);
   }
   LinearBackend backend() const { return backend_; }
+  int iterations() const { return iterations_; }
+  double iterative_error() const { return iterative_error_; }
 
   // Factors h (full symmetric, scalar unknowns in elimination order); the
   // symbolic analysis of the first call is kept for later calls with the
@@ -211,6 +219,10 @@ class NormalEquationsSolver {
   template <typename Index>
   bool Factorize(const Eigen::SparseMatrix<double, Eigen::ColMajor, Index>& h) {
     if constexpr (std::is_same_v<Index, int>) {
+      if (backend_ == LinearBackend::kIterative) {
+        cg_.compute(h);
+        return cg_.info() == Eigen::Success;
+      }
       if (!analyzed_) eigen_.analyzePattern(h);
       analyzed_ = true;
       eigen_.factorize(h);
@@ -222,7 +234,19 @@ class NormalEquationsSolver {
       return cholmod_.info() == Eigen::Success;
     }
   }
-  bool Solve(const Eigen::MatrixXd& rhs, Eigen::MatrixXd* x) {
+  // guess: the current values (kIterative starts from them).
+  bool Solve(const Eigen::MatrixXd& rhs, const Eigen::MatrixXd& guess,
+             Eigen::MatrixXd* x) {
+    if (backend_ == LinearBackend::kIterative) {
+      x->resize(rhs.rows(), rhs.cols());
+      for (Eigen::Index c = 0; c < rhs.cols(); ++c) {
+        x->col(c) = cg_.solveWithGuess(rhs.col(c), guess.col(c));
+        iterations_ += static_cast<int>(cg_.iterations());
+        iterative_error_ = std::max(iterative_error_, cg_.error());
+        if (cg_.info() != Eigen::Success) return false;
+      }
+      return x->allFinite();
+    }
     if (backend_ == LinearBackend::kSimplicial) {
       *x = eigen_.solve(rhs);
       return eigen_.info() == Eigen::Success && x->allFinite();
@@ -236,6 +260,12 @@ class NormalEquationsSolver {
       Eigen::SparseMatrix<double, Eigen::ColMajor, SuiteSparse_long>;
   LinearBackend backend_;
   bool analyzed_ = false;
+  int iterations_ = 0;
+  double iterative_error_ = 0.0;
+  Eigen::ConjugateGradient<
+      Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper,
+      Eigen::IncompleteCholesky<double, Eigen::Lower, Eigen::AMDOrdering<int>>>
+      cg_;
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower,
                         Eigen::NaturalOrdering<int>>
       eigen_;
@@ -254,6 +284,10 @@ bool SolveNormalEquations(const std::vector<LinearTerm<D, M>>& terms,
   std::vector<Eigen::Triplet<double, Index>> triplets;
   triplets.reserve(terms.size() * 4 * D * D);
   Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(D * num_unknown, M);
+  Eigen::MatrixXd guess(D * num_unknown, M);
+  for (size_t i = 0; i < known.size(); ++i) {
+    if (!known[i]) guess.middleRows<D>(col[i]) = (*x)[i];
+  }
   for (const LinearTerm<D, M>& t : terms) {
     Eigen::Matrix<double, D, M> c = t.C;
     if (known[t.a]) c += t.A_a * (*x)[t.a];
@@ -284,7 +318,17 @@ bool SolveNormalEquations(const std::vector<LinearTerm<D, M>>& terms,
     return false;
   }
   Eigen::MatrixXd sol;
-  if (!solver->Solve(rhs, &sol)) {
+  if (!solver->Solve(rhs, guess, &sol)) {
+    if (solver->backend() == LinearBackend::kIterative) {
+      char text[200];
+      std::snprintf(text, sizeof(text),
+                    "conjugate gradients did not solve the chordal "
+                    "initialization's linear system (relative residual %.3g "
+                    "after %d iterations)",
+                    solver->iterative_error(), solver->iterations());
+      *error = text;
+      return false;
+    }
     *error = "the linear system of the chordal initialization has no solution";
     return false;
   }
@@ -306,7 +350,7 @@ bool SolveLinear(const std::vector<LinearTerm<D, M>>& terms,
     if (!known[i]) col[i] = D * num_unknown++;
   }
   if (num_unknown == 0) return true;
-  if (solver->backend() == LinearBackend::kSimplicial) {
+  if (solver->backend() != LinearBackend::kSupernodal) {
     return SolveNormalEquations<int>(terms, known, col, num_unknown, x, solver,
                                      error);
   }
@@ -326,14 +370,6 @@ constexpr double kTryMetisFlopsPerUnknown = 2000.0;
 constexpr double kSupernodalFlopsPerEntry = 150.0;
 constexpr double kSimplicialMaxNonzeros = 134217728.0;
 
-double PhysicalMemoryBytes() {
-  const long pages = sysconf(_SC_PHYS_PAGES);
-  const long page_size = sysconf(_SC_PAGESIZE);
-  return pages > 0 && page_size > 0
-             ? static_cast<double>(pages) * static_cast<double>(page_size)
-             : 0.0;
-}
-
 std::string Gigabytes(double bytes) {
   char text[32];
   std::snprintf(text, sizeof(text), "%.1f GB", bytes / 1e9);
@@ -347,6 +383,14 @@ bool PlanSolve(const PoseGraphView& view, int dim, const InitOptions& options,
                std::vector<int>* order, LinearBackend* backend,
                std::string* error) {
   const int n = static_cast<int>(view.nodes.size());
+  if (options.backend == LinearBackend::kIterative) {
+    // No factor: the unknowns in node order, the preconditioner orders its
+    // own.
+    order->resize(n);
+    std::iota(order->begin(), order->end(), 0);
+    *backend = LinearBackend::kIterative;
+    return true;
+  }
   std::vector<std::pair<int, int>> node_edges;
   node_edges.reserve(view.edges.size());
   for (const auto& edge : view.edges) node_edges.emplace_back(edge.a, edge.b);
@@ -371,6 +415,11 @@ bool PlanSolve(const PoseGraphView& view, int dim, const InitOptions& options,
                             ? options.max_factor_bytes
                             : 0.5 * PhysicalMemoryBytes();
   if ((budget > 0.0 && bytes > budget) || flops > options.max_factor_flops) {
+    if (options.backend == LinearBackend::kAuto && options.iterative_fallback) {
+      std::iota(order->begin(), order->end(), 0);
+      *backend = LinearBackend::kIterative;
+      return true;
+    }
     char text[320];
     std::snprintf(text, sizeof(text),
                   "the chordal initialization's sparse factor would have "
@@ -486,7 +535,8 @@ bool RefineRotations(const PoseGraphView& view,
 // constraint R_z^T X_a - X_b = 0 (M = 3, one column per row of R_k).
 template <int D>
 bool ChordalImpl(const PoseGraphView& view, const std::vector<bool>& anchor,
-                 const InitOptions& options, std::string* error) {
+                 const InitOptions& options, std::string* error,
+                 InitReport* report) {
   constexpr int M = D == 3 ? 3 : 1;
   using MatD = Eigen::Matrix<double, D, D>;
   using VecD = Eigen::Matrix<double, D, 1>;
@@ -526,8 +576,14 @@ bool ChordalImpl(const PoseGraphView& view, const std::vector<bool>& anchor,
   std::vector<int> order;
   LinearBackend backend;
   if (!PlanSolve(view, D, options, &order, &backend, error)) return false;
-  NormalEquationsSolver solver(backend);
+  NormalEquationsSolver solver(backend, options);
+  report->backend = backend;
+  const auto record = [&] {
+    report->iterative_iterations = solver.iterations();
+    report->iterative_error = solver.iterative_error();
+  };
   if (!SolveLinear<D, M>(terms, anchor, order, &x, &solver, error)) {
+    record();
     return false;
   }
   std::vector<MatD> rot(n);
@@ -542,6 +598,7 @@ bool ChordalImpl(const PoseGraphView& view, const std::vector<bool>& anchor,
   }
   if constexpr (D == 3) {
     if (!RefineRotations(view, measured, anchor, order, &rot, &solver, error)) {
+      record();
       return false;
     }
   }
@@ -566,9 +623,9 @@ bool ChordalImpl(const PoseGraphView& view, const std::vector<bool>& anchor,
     term.W = raz * info_t * raz.transpose();
     term.C = -ra * edge.factor->measurement.head<D>();
   }
-  if (!SolveLinear<D, 1>(tterms, anchor, order, &t, &solver, error)) {
-    return false;
-  }
+  const bool solved = SolveLinear<D, 1>(tterms, anchor, order, &t, &solver, error);
+  record();
+  if (!solved) return false;
   for (int i = 0; i < n; ++i) {
     if (anchor[i]) continue;
     if constexpr (D == 3) {
@@ -586,9 +643,10 @@ bool ChordalImpl(const PoseGraphView& view, const std::vector<bool>& anchor,
 }
 
 bool Chordal(const PoseGraphView& view, const std::vector<bool>& anchor,
-             const InitOptions& options, std::string* error) {
-  return view.is_3d ? ChordalImpl<3>(view, anchor, options, error)
-                    : ChordalImpl<2>(view, anchor, options, error);
+             const InitOptions& options, std::string* error,
+             InitReport* report) {
+  return view.is_3d ? ChordalImpl<3>(view, anchor, options, error, report)
+                    : ChordalImpl<2>(view, anchor, options, error, report);
 }
 
 }  // namespace
@@ -618,8 +676,25 @@ bool ParseInitMethod(const std::string& text, InitMethod* method) {
   return false;
 }
 
+const char* LinearBackendName(LinearBackend backend) {
+  switch (backend) {
+    case LinearBackend::kAuto:
+      return "auto";
+    case LinearBackend::kSimplicial:
+      return "simplicial LDLT";
+    case LinearBackend::kSupernodal:
+      return "supernodal Cholesky";
+    case LinearBackend::kIterative:
+      return "conjugate gradients";
+  }
+  return "auto";
+}
+
 bool InitializePoses(Graph* graph, InitMethod method, std::string* error,
-                     const std::set<Key>* only, const InitOptions& options) {
+                     const std::set<Key>* only, const InitOptions& options,
+                     InitReport* report) {
+  InitReport unused;
+  if (report == nullptr) report = &unused;
   if (method == InitMethod::kNone) return true;
   PoseGraphView view;
   if (!BuildView(graph, only, &view, error)) return false;
@@ -633,7 +708,7 @@ bool InitializePoses(Graph* graph, InitMethod method, std::string* error,
       BreadthFirst(view, &anchor);
       return true;
     case InitMethod::kChordal:
-      return Chordal(view, anchor, options, error);
+      return Chordal(view, anchor, options, error, report);
     case InitMethod::kNone:
       break;
   }

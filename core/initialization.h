@@ -31,20 +31,42 @@ bool ParseInitMethod(const std::string& text, InitMethod* method);
 // How the chordal initialization solves its sparse linear systems: kAuto
 // picks from CHOLMOD's symbolic analysis of the node graph (Eigen's
 // simplicial LDL^T for sparse factors, CHOLMOD's supernodal LL^T with 64-bit
-// indices for dense or huge ones); the others force a backend (tests).
-enum class LinearBackend { kAuto, kSimplicial, kSupernodal };
+// indices for dense or huge ones, conjugate gradients when no factor fits);
+// the others force a backend (tests).
+//   kIterative  Eigen's conjugate gradients on the normal equations,
+//               preconditioned by an incomplete Cholesky factor (its own AMD
+//               order, the pattern of the system: memory of the order of the
+//               system itself), to a relative residual of
+//               iterative_tolerance. Loop closures between far-apart times
+//               fill a direct factor completely but make the graph well
+//               connected, which is what conjugate gradients need.
+enum class LinearBackend { kAuto, kSimplicial, kSupernodal, kIterative };
+const char* LinearBackendName(LinearBackend backend);
 
 struct InitOptions {
   LinearBackend backend = LinearBackend::kAuto;
   // Largest sparse factor the chordal initialization may allocate, in bytes
-  // (0: half the physical memory); a larger one fails with a message giving
-  // its size instead of exhausting the memory.
+  // (0: half the physical memory), and the largest factorization cost, in
+  // flops (1e12: a few minutes; the 1000 x 1000-lattice 1M-node grid world
+  // of scripts/benchmark_load.py needs 5e9). Beyond either, kAuto solves by
+  // conjugate gradients (iterative_fallback) or fails with a message giving
+  // the factor's size, instead of exhausting the memory or running for
+  // hours (dense factors, as from loop closures between random times).
   double max_factor_bytes = 0.0;
-  // Largest factorization cost, in flops (1e12: a few minutes; the 1M-node
-  // grid world of scripts/benchmark_load.py needs 5e9). Dense factors, as
-  // from loop closures between random times, fail with a message instead of
-  // running for hours.
   double max_factor_flops = 1e12;
+  bool iterative_fallback = true;
+  // kIterative: relative residual |b - A x| / |b| to reach, and the most
+  // conjugate-gradient iterations per system (not reaching the tolerance
+  // within them is an error).
+  double iterative_tolerance = 1e-10;
+  int max_iterative_iterations = 20000;
+};
+
+// What the chordal initialization did (InitializePoses' optional output).
+struct InitReport {
+  LinearBackend backend = LinearBackend::kAuto;  // The one used.
+  int iterative_iterations = 0;  // kIterative: summed over the systems.
+  double iterative_error = 0.0;  // kIterative: largest relative residual.
 };
 
 // Initializes the pose nodes (SE(2) or SE(3), not mixed) of the graph. If
@@ -53,7 +75,8 @@ struct InitOptions {
 // between factors or a linear system cannot be solved or does not fit.
 bool InitializePoses(Graph* graph, InitMethod method, std::string* error,
                      const std::set<Key>* only = nullptr,
-                     const InitOptions& options = InitOptions());
+                     const InitOptions& options = InitOptions(),
+                     InitReport* report = nullptr);
 
 }  // namespace slam
 

@@ -106,10 +106,18 @@ ceres::LinearSolverType LinearSolverFromName(const std::string& name,
   return ceres::SPARSE_NORMAL_CHOLESKY;
 }
 
+// The scalar sparse factor of an elimination order, estimated from its node
+// graph's (node-level counts scaled by the mean block size).
+struct FactorEstimate {
+  double nonzeros = 0.0;
+  double flops = 0.0;
+  double flops_per_entry = 0.0;
+};
+
 // Hands Ceres a complete elimination order computed by CHOLMOD.
 bool SetOrdering(const Graph& graph, const std::string& method,
                  ceres::Solver::Options* solver_options, std::string* used,
-                 double* flops_per_entry, std::string* error) {
+                 FactorEstimate* estimate, std::string* error) {
   std::map<Key, int> index;
   std::vector<double*> blocks;
   for (const auto& [key, node] : graph.nodes()) {
@@ -142,10 +150,13 @@ bool SetOrdering(const Graph& graph, const std::string& method,
     dofs += TangentSize(key.kind) > 0 ? TangentSize(key.kind)
                                       : static_cast<int>(node->value.size());
   }
-  *flops_per_entry = result.factor_nonzeros > 0
-                         ? result.factor_flops / result.factor_nonzeros * dofs /
-                               static_cast<double>(blocks.size())
-                         : 0.0;
+  const double block = dofs / static_cast<double>(blocks.size());
+  estimate->nonzeros = result.factor_nonzeros * block * block;
+  estimate->flops = result.factor_flops * block * block * block;
+  estimate->flops_per_entry =
+      result.factor_nonzeros > 0
+          ? result.factor_flops / result.factor_nonzeros * block
+          : 0.0;
   return true;
 }
 
@@ -425,16 +436,16 @@ OptimizerSummary Optimize(Graph* graph, const OptimizerOptions& options,
   summary.sparse_library = options.sparse_library;
   if (sparse_cholesky && graph->NumNodes() > 1) {
     std::string ordering_error;
-    double flops_per_entry = 0.0;
+    FactorEstimate estimate;
     std::string method;
     ceres::Solver::Options analysis_only;
     if (options.sparse_library == "auto") {
-      if (!SetOrdering(*graph, "amd", &analysis_only, &method, &flops_per_entry,
+      if (!SetOrdering(*graph, "amd", &analysis_only, &method, &estimate,
                        &ordering_error)) {
         summary.termination = ordering_error;
         return summary;
       }
-      summary.sparse_library = flops_per_entry > kSupernodalFlopsPerEntry
+      summary.sparse_library = estimate.flops_per_entry > kSupernodalFlopsPerEntry
                                    ? "suite_sparse"
                                    : "eigen_sparse";
     }
@@ -444,10 +455,36 @@ OptimizerSummary Optimize(Graph* graph, const OptimizerOptions& options,
                                    : options.ordering;
     if (wanted != "ceres") {
       if (!SetOrdering(*graph, wanted, &solver_options, &summary.ordering,
-                       &flops_per_entry, &ordering_error)) {
+                       &estimate, &ordering_error)) {
         summary.termination = ordering_error;
         return summary;
       }
+    }
+    // 3. A factor beyond the memory or flops allowed: conjugate gradients
+    //    on the normal equations (Ceres' CGNR, block-Jacobi preconditioner),
+    //    which need memory of the order of the Jacobian only.
+    const double budget = options.max_factor_bytes > 0.0
+                              ? options.max_factor_bytes
+                              : 0.5 * PhysicalMemoryBytes();
+    const double bytes = estimate.nonzeros * sizeof(double);
+    if (options.linear_solver == "auto" && options.iterative_fallback &&
+        estimate.nonzeros > 0.0 &&
+        ((budget > 0.0 && bytes > budget) ||
+         estimate.flops > options.max_factor_flops)) {
+      char text[300];
+      std::snprintf(text, sizeof(text),
+                    "auto: the sparse factor would have %.3g nonzeros (%.1f "
+                    "GB) and cost %.3g flops per iteration (%s ordering), "
+                    "more than allowed; conjugate gradients (CGNR, Jacobi)",
+                    estimate.nonzeros, bytes / 1e9, estimate.flops,
+                    summary.ordering.c_str());
+      summary.linear_solver_reason = text;
+      solver_options.linear_solver_type = ceres::CGNR;
+      solver_options.preconditioner_type = ceres::JACOBI;
+      solver_options.max_linear_solver_iterations =
+          options.max_linear_solver_iterations;
+      solver_options.linear_solver_ordering.reset();
+      summary.ordering = "none (iterative)";
     }
   } else if (summary.sparse_library == "auto") {
     summary.sparse_library = "suite_sparse";

@@ -51,6 +51,19 @@ struct OptimizerOptions {
   // kernels pay; sparse ones to Eigen's simplicial LDLT, which has less
   // per-call overhead (parking-garage, city10000: about twice as fast).
   std::string sparse_library = "auto";
+  // Sparse Cholesky chosen by "auto" whose factor would need more than
+  // max_factor_bytes (0: half the physical memory) or cost more than
+  // max_factor_flops per iteration (the estimate of the ordering analysis;
+  // 1e12 is minutes per iteration on 2 cores): iterative_fallback switches to
+  // conjugate gradients on the normal equations (CGNR, block-Jacobi
+  // preconditioner, at most max_linear_solver_iterations per step), which
+  // need memory of the order of the Jacobian; else the factorization runs.
+  // Loop closures between far-apart times fill the factor (1M poses on a
+  // 10 x 10 lattice: dense) but make conjugate gradients converge fast.
+  double max_factor_bytes = 0.0;
+  double max_factor_flops = 1e12;
+  bool iterative_fallback = true;
+  int max_linear_solver_iterations = 500;
   // LM/dogleg: initial trust-region radius (Ceres' default is 1e4). A large
   // radius lets the first steps be (nearly) Gauss-Newton steps, which from a
   // good initial guess saves many iterations (sphere2500 from the chordal

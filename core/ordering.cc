@@ -3,8 +3,17 @@
 #include <algorithm>
 
 #include <cholmod.h>
+#include <unistd.h>
 
 namespace slam {
+
+double PhysicalMemoryBytes() {
+  const long pages = sysconf(_SC_PHYS_PAGES);
+  const long page_size = sysconf(_SC_PAGESIZE);
+  return pages > 0 && page_size > 0
+             ? static_cast<double>(pages) * static_cast<double>(page_size)
+             : 0.0;
+}
 
 bool FillReducingOrdering(int num_nodes,
                           const std::vector<std::pair<int, int>>& edges,

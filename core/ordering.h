@@ -26,6 +26,10 @@ struct OrderingResult {
 
 // `num_nodes` nodes and `edges`, the (i, j) pairs of nodes sharing a factor.
 // `methods` is "auto" (best of AMD, METIS, NESDIS) or one of those names.
+// The machine's physical memory in bytes (0 if unknown): the default budget
+// of the sparse factors (half of it).
+double PhysicalMemoryBytes();
+
 bool FillReducingOrdering(int num_nodes,
                           const std::vector<std::pair<int, int>>& edges,
                           const std::string& methods, OrderingResult* result,

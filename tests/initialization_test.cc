@@ -732,21 +732,31 @@ TEST(Initialization3DTest, NoisyLongLoopChordalBeatsOdometry) {
 // LDL^T with int indices, CHOLMOD's supernodal LL^T with 64-bit indices, the
 // one large graphs take) solve the same systems: on a noisy graph, where the
 // relaxation's answer is not the ground truth, they must agree to rounding.
+// Conjugate gradients (the backend of graphs whose factor does not fit),
+// run to a relative residual of 1e-12, agree with them to 1e-8.
 template <typename AddGraphFn>
-void ExpectBackendsAgree(const AddGraphFn& add_graph, const Key& first) {
+void ExpectBackendsAgree(const AddGraphFn& add_graph, const Key& first,
+                         LinearBackend other = LinearBackend::kSupernodal,
+                         double tolerance = 1e-9) {
   std::vector<std::vector<double>> values[2];
-  const LinearBackend backends[2] = {LinearBackend::kSimplicial,
-                                     LinearBackend::kSupernodal};
+  const LinearBackend backends[2] = {LinearBackend::kSimplicial, other};
   for (int b = 0; b < 2; ++b) {
     Graph graph;
     add_graph(&graph);
     ResetAllBut(&graph, {first});
     InitOptions options;
     options.backend = backends[b];
+    options.iterative_tolerance = 1e-12;
     std::string error;
-    ASSERT_TRUE(
-        InitializePoses(&graph, InitMethod::kChordal, &error, nullptr, options))
+    InitReport report;
+    ASSERT_TRUE(InitializePoses(&graph, InitMethod::kChordal, &error, nullptr,
+                                options, &report))
         << error;
+    EXPECT_EQ(report.backend, backends[b]);
+    if (backends[b] == LinearBackend::kIterative) {
+      EXPECT_GT(report.iterative_iterations, 0);
+      EXPECT_LT(report.iterative_error, 1e-12);
+    }
     for (const auto& [key, node] : graph.nodes()) {
       values[b].push_back(node->value);
     }
@@ -759,7 +769,7 @@ void ExpectBackendsAgree(const AddGraphFn& add_graph, const Key& first) {
           std::max(max_diff, std::abs(values[0][i][k] - values[1][i][k]));
     }
   }
-  EXPECT_LT(max_diff, 1e-9);
+  EXPECT_LT(max_diff, tolerance) << LinearBackendName(other);
   // The answer is not the starting point: the backends did the solving.
   Graph reset;
   add_graph(&reset);
@@ -785,6 +795,26 @@ TEST(Initialization2DTest, SimplicialAndSupernodalBackendsAgree) {
       Pose2Key(0));
 }
 
+TEST(Initialization2DTest, SimplicialAndIterativeBackendsAgree) {
+  const auto gt = TwoLaps2(150);
+  ExpectBackendsAgree(
+      [&](Graph* graph) {
+        Rng rng(14);
+        AddGraph2(gt, TwoLapEdges(150), 0.05, 0.02, &rng, graph);
+      },
+      Pose2Key(0), LinearBackend::kIterative, 1e-8);
+}
+
+TEST(Initialization3DTest, SimplicialAndIterativeBackendsAgree) {
+  const auto gt = TwoLaps3(100);
+  ExpectBackendsAgree(
+      [&](Graph* graph) {
+        Rng rng(15);
+        AddGraph3(gt, TwoLapEdges(100), 0.05, 0.02, &rng, graph);
+      },
+      Pose3Key(0), LinearBackend::kIterative, 1e-8);
+}
+
 TEST(Initialization3DTest, SimplicialAndSupernodalBackendsAgree) {
   const auto gt = TwoLaps3(100);
   ExpectBackendsAgree(
@@ -797,7 +827,8 @@ TEST(Initialization3DTest, SimplicialAndSupernodalBackendsAgree) {
 
 // A factor larger than the memory or costlier than the flops allowed stops
 // the initialization with a message giving its size, before anything is
-// allocated or written.
+// allocated or written, when the conjugate-gradient fallback is off; with it
+// (the default) the same graph is solved by conjugate gradients.
 TEST(InitializationTest, FactorLargerThanAllowedIsAClearError) {
   const auto gt = TwoLaps3(100);
   Graph graph;
@@ -807,6 +838,7 @@ TEST(InitializationTest, FactorLargerThanAllowedIsAClearError) {
   std::map<Key, std::vector<double>> before;
   for (const auto& [key, node] : graph.nodes()) before[key] = node->value;
   InitOptions options;
+  options.iterative_fallback = false;
   options.max_factor_bytes = 1000.0;
   std::string error;
   EXPECT_FALSE(
@@ -825,11 +857,34 @@ TEST(InitializationTest, FactorLargerThanAllowedIsAClearError) {
   for (const auto& [key, node] : graph.nodes()) {
     EXPECT_EQ(node->value, before.at(key));
   }
-  // With room for it the same graph initializes.
-  options.max_factor_flops = 1e12;
-  EXPECT_TRUE(
-      InitializePoses(&graph, InitMethod::kChordal, &error, nullptr, options))
+  // The fallback: conjugate gradients, the same answer as the direct
+  // solve that has room for the factor.
+  Graph direct;
+  for (const auto& [key, node] : graph.nodes()) {
+    direct.AddNode(key, node->value);
+  }
+  for (const auto& [id, factor] : graph.factors()) direct.AddFactor(factor);
+  options.iterative_fallback = true;
+  options.iterative_tolerance = 1e-12;
+  InitReport report;
+  ASSERT_TRUE(InitializePoses(&graph, InitMethod::kChordal, &error, nullptr,
+                              options, &report))
       << error;
+  EXPECT_EQ(report.backend, LinearBackend::kIterative);
+  // With room for it the same graph initializes directly.
+  options = InitOptions();
+  ASSERT_TRUE(InitializePoses(&direct, InitMethod::kChordal, &error, nullptr,
+                              options, &report))
+      << error;
+  EXPECT_NE(report.backend, LinearBackend::kIterative);
+  double max_diff = 0.0;
+  for (const auto& [key, node] : graph.nodes()) {
+    const std::vector<double>& v = direct.FindNode(key)->value;
+    for (size_t k = 0; k < v.size(); ++k) {
+      max_diff = std::max(max_diff, std::abs(node->value[k] - v[k]));
+    }
+  }
+  EXPECT_LT(max_diff, 1e-8);
 }
 
 }  // namespace

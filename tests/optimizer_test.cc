@@ -269,6 +269,43 @@ TEST(OptimizerTest, EliminationOrderingsAgree) {
   }
 }
 
+// A sparse factor beyond the memory or flops allowed: "auto" solves by
+// conjugate gradients (CGNR) instead, to the same optimum as the factor.
+TEST(OptimizerTest, FactorBeyondTheBudgetFallsBackToConjugateGradients) {
+  for (int dim : {2, 3}) {
+    const auto build = [dim](Graph* graph) {
+      if (dim == 2) {
+        BuildGraph2(Graph2Spec(), graph);
+      } else {
+        BuildGraph3(3, 20, graph);
+      }
+    };
+    Graph direct, iterative, refused;
+    build(&direct);
+    build(&iterative);
+    build(&refused);
+    OptimizerOptions options;
+    options.verbose = false;
+    const OptimizerSummary d = Optimize(&direct, options, nullptr);
+    ASSERT_TRUE(d.converged) << d.termination;
+    EXPECT_EQ(d.linear_solver_reason.find("conjugate"), std::string::npos);
+    options.max_factor_flops = 1.0;
+    const OptimizerSummary i = Optimize(&iterative, options, nullptr);
+    ASSERT_TRUE(i.converged) << i.termination;
+    EXPECT_NE(i.linear_solver_reason.find("conjugate gradients"),
+              std::string::npos)
+        << i.linear_solver_reason;
+    EXPECT_EQ(i.linear_solver, "CGNR");
+    EXPECT_NEAR(i.final_chi2, d.final_chi2, 1e-6 * d.final_chi2) << dim;
+    // Without the fallback the factorization runs all the same.
+    options.iterative_fallback = false;
+    const OptimizerSummary r = Optimize(&refused, options, nullptr);
+    ASSERT_TRUE(r.converged) << r.termination;
+    EXPECT_EQ(r.linear_solver_reason.find("conjugate"), std::string::npos);
+    EXPECT_NEAR(r.final_chi2, d.final_chi2, 1e-9 * d.final_chi2) << dim;
+  }
+}
+
 TEST(OptimizerTest, UnknownLinearSolverIsReported) {
   Graph graph;
   BuildGraph2(Graph2Spec(), &graph);
