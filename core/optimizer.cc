@@ -453,31 +453,42 @@ OptimizerSummary Optimize(Graph* graph, const OptimizerOptions& options,
     const std::string wanted = options.ordering == "auto"
                                    ? (dense ? "auto" : "ceres")
                                    : options.ordering;
-    if (wanted != "ceres") {
+    // 3. A factor beyond the memory or flops allowed: conjugate gradients
+    //    on the normal equations (Ceres' CGNR, block-Jacobi preconditioner),
+    //    which need memory of the order of the Jacobian only. When AMD's
+    //    factor is over ten times beyond, no ordering brings it within
+    //    (METIS and nested dissection gain 2-5x on grids) and the other
+    //    orderings, slow on such graphs, are not tried.
+    const double budget = options.max_factor_bytes > 0.0
+                              ? options.max_factor_bytes
+                              : 0.5 * PhysicalMemoryBytes();
+    const auto excess = [&](const FactorEstimate& e) {
+      const double bytes = e.nonzeros * sizeof(double);
+      return std::max(budget > 0.0 ? bytes / budget : 0.0,
+                      e.flops / options.max_factor_flops);
+    };
+    const bool may_fall_back =
+        options.linear_solver == "auto" && options.iterative_fallback;
+    constexpr double kNoOrderingHelps = 10.0;
+    const bool hopeless =
+        may_fall_back && excess(estimate) > kNoOrderingHelps;
+    std::string estimated_with = method;
+    if (wanted != "ceres" && !hopeless) {
       if (!SetOrdering(*graph, wanted, &solver_options, &summary.ordering,
                        &estimate, &ordering_error)) {
         summary.termination = ordering_error;
         return summary;
       }
+      estimated_with = summary.ordering;
     }
-    // 3. A factor beyond the memory or flops allowed: conjugate gradients
-    //    on the normal equations (Ceres' CGNR, block-Jacobi preconditioner),
-    //    which need memory of the order of the Jacobian only.
-    const double budget = options.max_factor_bytes > 0.0
-                              ? options.max_factor_bytes
-                              : 0.5 * PhysicalMemoryBytes();
-    const double bytes = estimate.nonzeros * sizeof(double);
-    if (options.linear_solver == "auto" && options.iterative_fallback &&
-        estimate.nonzeros > 0.0 &&
-        ((budget > 0.0 && bytes > budget) ||
-         estimate.flops > options.max_factor_flops)) {
+    if (may_fall_back && estimate.nonzeros > 0.0 && excess(estimate) > 1.0) {
       char text[300];
       std::snprintf(text, sizeof(text),
                     "auto: the sparse factor would have %.3g nonzeros (%.1f "
                     "GB) and cost %.3g flops per iteration (%s ordering), "
                     "more than allowed; conjugate gradients (CGNR, Jacobi)",
-                    estimate.nonzeros, bytes / 1e9, estimate.flops,
-                    summary.ordering.c_str());
+                    estimate.nonzeros, estimate.nonzeros * sizeof(double) / 1e9,
+                    estimate.flops, estimated_with.c_str());
       summary.linear_solver_reason = text;
       solver_options.linear_solver_type = ceres::CGNR;
       solver_options.preconditioner_type = ceres::JACOBI;
