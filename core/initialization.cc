@@ -264,7 +264,8 @@ class NormalEquationsSolver {
   double iterative_error_ = 0.0;
   Eigen::ConjugateGradient<
       Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper,
-      Eigen::IncompleteCholesky<double, Eigen::Lower, Eigen::NaturalOrdering<int>>>
+      Eigen::IncompleteCholesky<double, Eigen::Lower,
+                                Eigen::NaturalOrdering<int>>>
       cg_;
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower,
                         Eigen::NaturalOrdering<int>>
@@ -377,8 +378,9 @@ std::string Gigabytes(double bytes) {
 }
 
 // Elimination order of the nodes and the backend for D x D blocks, from
-// CHOLMOD's symbolic analysis of the node graph; fails with a message when
-// the factor would not fit in options.max_factor_bytes.
+// CHOLMOD's symbolic analysis of the node graph. When the factor would not
+// fit (options.max_factor_bytes, max_factor_flops): kIterative with
+// options.iterative_fallback, else fails with a message giving its size.
 bool PlanSolve(const PoseGraphView& view, int dim, const InitOptions& options,
                std::vector<int>* order, LinearBackend* backend,
                std::string* error) {
@@ -404,8 +406,9 @@ bool PlanSolve(const PoseGraphView& view, int dim, const InitOptions& options,
   // How far a factor is beyond what is allowed (<= 1: it fits).
   const auto excess = [&](const OrderingResult& o) {
     const double bytes = o.factor_nonzeros * dim * dim * sizeof(double);
-    return std::max(budget > 0.0 ? bytes / budget : 0.0,
-                    o.factor_flops * dim * dim * dim / options.max_factor_flops);
+    return std::max(
+        budget > 0.0 ? bytes / budget : 0.0,
+        o.factor_flops * dim * dim * dim / options.max_factor_flops);
   };
   // AMD's factor over ten times beyond what is allowed: METIS (2-5x better
   // on grids) cannot bring it within, and is slow on such graphs.
@@ -635,7 +638,8 @@ bool ChordalImpl(const PoseGraphView& view, const std::vector<bool>& anchor,
     term.W = raz * info_t * raz.transpose();
     term.C = -ra * edge.factor->measurement.head<D>();
   }
-  const bool solved = SolveLinear<D, 1>(tterms, anchor, order, &t, &solver, error);
+  const bool solved =
+      SolveLinear<D, 1>(tterms, anchor, order, &t, &solver, error);
   record();
   if (!solved) return false;
   for (int i = 0; i < n; ++i) {

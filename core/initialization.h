@@ -34,9 +34,10 @@ bool ParseInitMethod(const std::string& text, InitMethod* method);
 // indices for dense or huge ones, conjugate gradients when no factor fits);
 // the others force a backend (tests).
 //   kIterative  Eigen's conjugate gradients on the normal equations,
-//               preconditioned by an incomplete Cholesky factor (its own AMD
-//               order, the pattern of the system: memory of the order of the
-//               system itself), to a relative residual of
+//               preconditioned by an incomplete Cholesky factor (in node
+//               order, which is time order in pose graphs: fewer iterations
+//               than AMD's order on simulated worlds; memory of the order of
+//               the system itself), to a relative residual of
 //               iterative_tolerance. Loop closures between far-apart times
 //               fill a direct factor completely but make the graph well
 //               connected, which is what conjugate gradients need.

@@ -445,9 +445,9 @@ OptimizerSummary Optimize(Graph* graph, const OptimizerOptions& options,
         summary.termination = ordering_error;
         return summary;
       }
-      summary.sparse_library = estimate.flops_per_entry > kSupernodalFlopsPerEntry
-                                   ? "suite_sparse"
-                                   : "eigen_sparse";
+      summary.sparse_library =
+          estimate.flops_per_entry > kSupernodalFlopsPerEntry ? "suite_sparse"
+                                                              : "eigen_sparse";
     }
     const bool dense = summary.sparse_library == "suite_sparse";
     const std::string wanted = options.ordering == "auto"
@@ -470,8 +470,7 @@ OptimizerSummary Optimize(Graph* graph, const OptimizerOptions& options,
     const bool may_fall_back =
         options.linear_solver == "auto" && options.iterative_fallback;
     constexpr double kNoOrderingHelps = 10.0;
-    const bool hopeless =
-        may_fall_back && excess(estimate) > kNoOrderingHelps;
+    const bool hopeless = may_fall_back && excess(estimate) > kNoOrderingHelps;
     std::string estimated_with = method;
     if (wanted != "ceres" && !hopeless) {
       if (!SetOrdering(*graph, wanted, &solver_options, &summary.ordering,

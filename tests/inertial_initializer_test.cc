@@ -424,9 +424,10 @@ TEST(InertialInitializerTest, EurocDefaultStartMatchesTheGroundTruthStart) {
     const double position = nees["position"]["mean"].as<double>();
     const double pose = nees["pose"]["mean"].as<double>();
     const double bias = nees["bias"]["mean"].as<double>();
-    std::printf("default start, 10 Hz fixes: mean NEES position %.2f (3), "
-                "pose %.2f (6), bias %.2f (6)\n",
-                position, pose, bias);
+    std::printf(
+        "default start, 10 Hz fixes: mean NEES position %.2f (3), "
+        "pose %.2f (6), bias %.2f (6)\n",
+        position, pose, bias);
     EXPECT_GT(position, 0.7 * 3.0);
     EXPECT_LT(position, 1.3 * 3.0);
     EXPECT_GT(pose, 6.0 / 1.5);
