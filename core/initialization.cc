@@ -400,19 +400,12 @@ bool PlanSolve(const PoseGraphView& view, int dim, const InitOptions& options,
   if (!FillReducingOrdering(n, node_edges, "amd", &ordering, error)) {
     return false;
   }
-  const double budget = options.max_factor_bytes > 0.0
-                            ? options.max_factor_bytes
-                            : 0.5 * PhysicalMemoryBytes();
-  // How far a factor is beyond what is allowed (<= 1: it fits).
+  // Scalar factor: D x D blocks per node-level entry.
   const auto excess = [&](const OrderingResult& o) {
-    const double bytes = o.factor_nonzeros * dim * dim * sizeof(double);
-    return std::max(
-        budget > 0.0 ? bytes / budget : 0.0,
-        o.factor_flops * dim * dim * dim / options.max_factor_flops);
+    return FactorExcess(o.factor_nonzeros * dim * dim,
+                        o.factor_flops * dim * dim * dim,
+                        options.max_factor_bytes, options.max_factor_flops);
   };
-  // AMD's factor over ten times beyond what is allowed: METIS (2-5x better
-  // on grids) cannot bring it within, and is slow on such graphs.
-  constexpr double kNoOrderingHelps = 10.0;
   const bool hopeless = options.backend == LinearBackend::kAuto &&
                         options.iterative_fallback &&
                         excess(ordering) > kNoOrderingHelps;
@@ -435,6 +428,9 @@ bool PlanSolve(const PoseGraphView& view, int dim, const InitOptions& options,
       *backend = LinearBackend::kIterative;
       return true;
     }
+    const double budget = options.max_factor_bytes > 0.0
+                              ? options.max_factor_bytes
+                              : 0.5 * PhysicalMemoryBytes();
     char text[320];
     std::snprintf(text, sizeof(text),
                   "the chordal initialization's sparse factor would have "

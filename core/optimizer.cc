@@ -459,17 +459,12 @@ OptimizerSummary Optimize(Graph* graph, const OptimizerOptions& options,
     //    factor is over ten times beyond, no ordering brings it within
     //    (METIS and nested dissection gain 2-5x on grids) and the other
     //    orderings, slow on such graphs, are not tried.
-    const double budget = options.max_factor_bytes > 0.0
-                              ? options.max_factor_bytes
-                              : 0.5 * PhysicalMemoryBytes();
     const auto excess = [&](const FactorEstimate& e) {
-      const double bytes = e.nonzeros * sizeof(double);
-      return std::max(budget > 0.0 ? bytes / budget : 0.0,
-                      e.flops / options.max_factor_flops);
+      return FactorExcess(e.nonzeros, e.flops, options.max_factor_bytes,
+                          options.max_factor_flops);
     };
     const bool may_fall_back =
         options.linear_solver == "auto" && options.iterative_fallback;
-    constexpr double kNoOrderingHelps = 10.0;
     const bool hopeless = may_fall_back && excess(estimate) > kNoOrderingHelps;
     std::string estimated_with = method;
     if (wanted != "ceres" && !hopeless) {

@@ -15,6 +15,14 @@ double PhysicalMemoryBytes() {
              : 0.0;
 }
 
+double FactorExcess(double nonzeros, double flops, double max_bytes,
+                    double max_flops) {
+  const double budget =
+      max_bytes > 0.0 ? max_bytes : 0.5 * PhysicalMemoryBytes();
+  const double bytes = nonzeros * sizeof(double);
+  return std::max(budget > 0.0 ? bytes / budget : 0.0, flops / max_flops);
+}
+
 bool FillReducingOrdering(int num_nodes,
                           const std::vector<std::pair<int, int>>& edges,
                           const std::string& methods, OrderingResult* result,

@@ -24,12 +24,21 @@ struct OrderingResult {
   double factor_flops = 0.0;     // Flops of its Cholesky factorization.
 };
 
-// `num_nodes` nodes and `edges`, the (i, j) pairs of nodes sharing a factor.
-// `methods` is "auto" (best of AMD, METIS, NESDIS) or one of those names.
-// The machine's physical memory in bytes (0 if unknown): the default budget
-// of the sparse factors (half of it).
+// The machine's physical memory in bytes (0 if unknown).
 double PhysicalMemoryBytes();
 
+// How far a scalar sparse factor of `nonzeros` entries costing `flops` is
+// beyond the limits (max_bytes 0: half the physical memory); <= 1: it fits.
+// The initialization and the optimizer share these limits.
+double FactorExcess(double nonzeros, double flops, double max_bytes,
+                    double max_flops);
+// AMD's factor more than this many times beyond the limits: METIS and
+// nested dissection (2-5x better on grids) cannot bring it within, and are
+// slow on such graphs, so they are not tried.
+constexpr double kNoOrderingHelps = 10.0;
+
+// `num_nodes` nodes and `edges`, the (i, j) pairs of nodes sharing a factor.
+// `methods` is "auto" (best of AMD, METIS, NESDIS) or one of those names.
 bool FillReducingOrdering(int num_nodes,
                           const std::vector<std::pair<int, int>>& edges,
                           const std::string& methods, OrderingResult* result,

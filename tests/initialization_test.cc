@@ -785,44 +785,24 @@ void ExpectBackendsAgree(const AddGraphFn& add_graph, const Key& first,
   EXPECT_GT(moved, 1.0);
 }
 
-TEST(Initialization2DTest, SimplicialAndSupernodalBackendsAgree) {
+TEST(Initialization2DTest, LinearBackendsAgree) {
   const auto gt = TwoLaps2(150);
-  ExpectBackendsAgree(
-      [&](Graph* graph) {
-        Rng rng(14);
-        AddGraph2(gt, TwoLapEdges(150), 0.05, 0.02, &rng, graph);
-      },
-      Pose2Key(0));
+  const auto add_graph = [&](Graph* graph) {
+    Rng rng(14);
+    AddGraph2(gt, TwoLapEdges(150), 0.05, 0.02, &rng, graph);
+  };
+  ExpectBackendsAgree(add_graph, Pose2Key(0));
+  ExpectBackendsAgree(add_graph, Pose2Key(0), LinearBackend::kIterative, 1e-8);
 }
 
-TEST(Initialization2DTest, SimplicialAndIterativeBackendsAgree) {
-  const auto gt = TwoLaps2(150);
-  ExpectBackendsAgree(
-      [&](Graph* graph) {
-        Rng rng(14);
-        AddGraph2(gt, TwoLapEdges(150), 0.05, 0.02, &rng, graph);
-      },
-      Pose2Key(0), LinearBackend::kIterative, 1e-8);
-}
-
-TEST(Initialization3DTest, SimplicialAndIterativeBackendsAgree) {
+TEST(Initialization3DTest, LinearBackendsAgree) {
   const auto gt = TwoLaps3(100);
-  ExpectBackendsAgree(
-      [&](Graph* graph) {
-        Rng rng(15);
-        AddGraph3(gt, TwoLapEdges(100), 0.05, 0.02, &rng, graph);
-      },
-      Pose3Key(0), LinearBackend::kIterative, 1e-8);
-}
-
-TEST(Initialization3DTest, SimplicialAndSupernodalBackendsAgree) {
-  const auto gt = TwoLaps3(100);
-  ExpectBackendsAgree(
-      [&](Graph* graph) {
-        Rng rng(15);
-        AddGraph3(gt, TwoLapEdges(100), 0.05, 0.02, &rng, graph);
-      },
-      Pose3Key(0));
+  const auto add_graph = [&](Graph* graph) {
+    Rng rng(15);
+    AddGraph3(gt, TwoLapEdges(100), 0.05, 0.02, &rng, graph);
+  };
+  ExpectBackendsAgree(add_graph, Pose3Key(0));
+  ExpectBackendsAgree(add_graph, Pose3Key(0), LinearBackend::kIterative, 1e-8);
 }
 
 // A factor larger than the memory or costlier than the flops allowed stops
