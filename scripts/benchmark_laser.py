@@ -46,6 +46,7 @@ COLUMNS = [
     ("log", "log"), ("relations", "relations used"),
     ("trans", "trans. error [m]"), ("rot", "rot. error [deg]"),
     ("wall", "wall [s]"), ("cpu", "CPU [s]"), ("mem", "peak mem [MB]"),
+    ("loops", "loop search [s] (share of slam)"),
     ("carto_trans", "Cartographer trans. [m]"),
     ("carto_rot", "Cartographer rot. [deg]"),
     ("carto_wall", "Cartographer wall [s]"),
@@ -55,6 +56,10 @@ COLUMNS = [
 RELATION = re.compile(
     r"relation error \((\d+) of (\d+) relations\): translation ([\d.]+) "
     r"\+- ([\d.]+) m .*rotation ([\d.]+) \+- ([\d.]+) deg")
+
+# The run's time split (wall clock, seconds): slam total and loop search.
+TIMES = re.compile(r"run: time [\d.]+ s \(read [\d.]+ s, slam ([\d.]+) s: "
+                   r"matching [\d.]+, loops ([\d.]+),")
 
 
 def find_logs(folder):
@@ -137,6 +142,7 @@ def main():
             config = os.path.join(tmp, name + ".yaml")
             write_config(config, log, relations, os.path.join(tmp, name))
             walls, cpus, mems, errors, match = [], [], [], set(), None
+            loops = []
             for i in range(args.runs):
                 result = run_once(slam, config)
                 if result is None:
@@ -151,6 +157,10 @@ def main():
                           "of %s:\n%s" % (name, text[-2000:]), file=sys.stderr)
                     break
                 errors.add(match.groups())
+                times = TIMES.search(text)
+                if times:
+                    slam_s, loop_s = (float(v) for v in times.groups())
+                    loops.append((loop_s, loop_s / max(slam_s, 1e-9)))
                 print("%s run %d/%d: %.1f s wall, %.1f s CPU, %.0f MB" %
                       (name, i + 1, args.runs, wall, cpu, mem),
                       file=sys.stderr)
@@ -173,6 +183,10 @@ def main():
                 "wall": "%.1f" % statistics.median(walls),
                 "cpu": "%.1f" % statistics.median(cpus),
                 "mem": "%.0f" % statistics.median(mems),
+                "loops": ("%.1f (%.0f %%)" % (
+                    statistics.median(l for l, _ in loops),
+                    100 * statistics.median(f for _, f in loops))
+                          if loops else "n/a"),
                 "carto_trans": "n/a", "carto_rot": "n/a",
                 "carto_wall": "n/a", "beats": "n/a",
             }
