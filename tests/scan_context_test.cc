@@ -55,5 +55,41 @@ TEST(ScanContextTest, RotationIsRecoveredAndPlacesAreTold) {
             1.0);
 }
 
+// Points at radius r in the sectors listed (60 sectors), turned by
+// `shift` sectors.
+Points2 Arcs(const std::vector<int>& sectors, double r, int shift) {
+  Points2 points;
+  for (int s : sectors) {
+    const double phi = 2.0 * M_PI * (s + shift + 0.5) / 60.0;
+    points.emplace_back(r * std::cos(phi), r * std::sin(phi));
+  }
+  return points;
+}
+
+// The ring key sees how a ring's occupancy is spread, not only how much is
+// occupied: one wall ahead and two walls on either side occupy the same
+// number of cells of each ring, but are told apart; the key of a turned
+// view is the same.
+TEST(ScanContextTest, RingKeyTellsTheSpreadOfTheOccupancyRotationInvariantly) {
+  const ScanContextOptions options;
+  std::vector<int> block, split;
+  for (int s = 0; s < 10; ++s) block.push_back(s);
+  for (int s = 0; s < 5; ++s) {
+    split.push_back(s);
+    split.push_back(30 + s);
+  }
+  const ScanContext one = MakeScanContext(Arcs(block, 5.0, 0), options);
+  const ScanContext turned = MakeScanContext(Arcs(block, 5.0, 17), options);
+  const ScanContext two = MakeScanContext(Arcs(split, 5.0, 0), options);
+  EXPECT_LT(RingKeyDistance(one, turned), 1e-10);
+  EXPECT_GT(RingKeyDistance(one, two), 0.01);
+  ScanContextOptions occupancy_only = options;
+  occupancy_only.key_harmonics = 0;
+  EXPECT_EQ(
+      RingKeyDistance(MakeScanContext(Arcs(block, 5.0, 0), occupancy_only),
+                      MakeScanContext(Arcs(split, 5.0, 0), occupancy_only)),
+      0.0);
+}
+
 }  // namespace
 }  // namespace slam

@@ -112,6 +112,31 @@ TEST(ScanMatcherTest, CorrelativeBranchAndBoundEqualsExhaustiveSearch) {
   EXPECT_NEAR(bb.theta, ex.theta, 1e-12);
 }
 
+// A minimum score only prunes: below the best score the answer is the
+// same; above it, the search reports nothing (initial pose, score 0).
+TEST(ScanMatcherTest, CorrelativeMinimumScorePrunesWithoutChangingTheBest) {
+  Fixture f = MakeFixture(0.0, M_PI, 5);
+  const Pose2 guess = f.truth * Pose2(0.3, -0.2, 0.1);
+  CorrelativeOptions c;
+  c.window_xy = 0.6;
+  c.window_theta = 0.2;
+  c.step_theta = 0.01;
+  double score = 0.0;
+  const Pose2 best = f.target.Correlative(f.source, guess, c, &score);
+  ASSERT_GT(score, 0.3);
+  c.min_score = score - 0.1;
+  double pruned_score = 0.0;
+  const Pose2 pruned = f.target.Correlative(f.source, guess, c, &pruned_score);
+  EXPECT_NEAR(pruned_score, score, 1e-12);
+  EXPECT_LT((pruned.t - best.t).norm(), 1e-12);
+  EXPECT_NEAR(pruned.theta, best.theta, 1e-12);
+  c.min_score = score + 0.01;
+  const Pose2 none = f.target.Correlative(f.source, guess, c, &pruned_score);
+  EXPECT_EQ(pruned_score, 0.0);
+  EXPECT_LT((none.t - guess.t).norm(), 1e-12);
+  EXPECT_NEAR(none.theta, guess.theta, 1e-12);
+}
+
 TEST(ScanMatcherTest, IcpFailsWithoutOverlap) {
   std::mt19937 rng(4);
   MatchTarget target;

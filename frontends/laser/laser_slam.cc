@@ -22,6 +22,14 @@ bool SmallMotion(const Pose2& a, const Pose2& b, double max_distance,
          std::abs(NormalizeAngle(a.theta - b.theta)) <= max_angle;
 }
 
+// Two loop-closure corrections (world-frame transforms taking a keyframe's
+// estimate to where a match puts it) compared where they act, on the
+// estimate `at`: in the world frame a rotation difference of 0.002 rad
+// would move the translation by 0.1 m per 50 m from the origin.
+Pose2 CorrectionDifference(const Pose2& a, const Pose2& b, const Pose2& at) {
+  return (a * at).Inverse() * (b * at);
+}
+
 }  // namespace
 
 bool LoopMatchPasses(const MatchResult& match, const LaserSlamConfig& config) {
@@ -492,6 +500,11 @@ bool LaserSlam::DetectLoopClosures(int k) {
       tried.push_back(place.index);
       CorrelativeOptions search = config_.loop_correlative;
       search.window_xy = config_.loop_global_window;
+      // The descriptor's rotation is good to a sector: two sectors of
+      // angular window suffice (0.21 rad with 60 sectors, not 0.35).
+      search.window_theta =
+          std::min(search.window_theta,
+                   4.0 * M_PI / std::max(1, config_.loop_context.sectors));
       ++stats_.global_closures_proposed;
       VerifyLoop(k, place.index, Pose2(0.0, 0.0, place.rotation), &search, true,
                  query, search_query, &significant);
@@ -525,13 +538,18 @@ bool LaserSlam::VerifyLoop(int k, int j, const Pose2& guess,
   // Without a search (anchored), ICP alone may only correct the guess
   // slightly, as in the final pass.
   double score = 0.0;
-  const Pose2 coarse =
-      search != nullptr
-          ? target.Correlative(search_query, guess, *search, &score)
-          : guess;
+  Pose2 coarse = guess;
+  ++stats_.closures_proposed;
+  if (search != nullptr) {
+    // Only poses reaching loop_min_score can pass: the search prunes the
+    // rest, and a candidate where none does is not refined.
+    CorrelativeOptions options = *search;
+    options.min_score = std::max(options.min_score, config_.loop_min_score);
+    coarse = target.Correlative(search_query, guess, options, &score);
+    if (score < config_.loop_min_score) return false;
+  }
   MatchResult match = target.Icp(query, coarse, config_.icp);
   match.score = score;
-  ++stats_.closures_proposed;
   if (search == nullptr) {
     LaserSlamConfig checks = config_;
     checks.loop_min_score = 0.0;
@@ -556,7 +574,7 @@ bool LaserSlam::VerifyLoop(int k, int j, const Pose2& guess,
                    global};
   // A correction the chi2 test has undone recently is not tried again.
   for (const auto& [when, correction] : undone_corrections_) {
-    const Pose2 diff = correction.Inverse() * h.correction;
+    const Pose2 diff = CorrectionDifference(correction, h.correction, pose_k);
     if (k - when <= config_.loop_undone_memory &&
         diff.t.norm() <= config_.loop_consistency_distance * 10 &&
         std::abs(diff.theta) <= config_.loop_consistency_angle * 10) {
@@ -568,7 +586,8 @@ bool LaserSlam::VerifyLoop(int k, int j, const Pose2& guess,
     if (k - other.k > config_.loop_consistency_keyframes || other.k == k) {
       continue;
     }
-    const Pose2 diff = other.correction.Inverse() * h.correction;
+    const Pose2 diff =
+        CorrectionDifference(other.correction, h.correction, pose_k);
     if (diff.t.norm() <= config_.loop_consistency_distance &&
         std::abs(diff.theta) <= config_.loop_consistency_angle) {
       agreeing.push_back(&other);

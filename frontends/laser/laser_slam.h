@@ -38,9 +38,13 @@
 //     loop_query_keyframes keyframes as one cloud in k's frame) against the
 //     submap of keyframes j-h..j+h (h = loop_submap_half_width) in j's
 //     frame: correlative search over +-max(window, r) then ICP, passing
-//     LoopMatchPasses. A passing match is accepted only when the correction
-//     it implies agrees (loop_consistency_distance / _angle) with a passing
-//     match of another keyframe within loop_consistency_keyframes; both then
+//     LoopMatchPasses (the correlative search prunes every pose scoring
+//     below loop_min_score and a candidate where none reaches it gets no
+//     ICP). A passing match is accepted only when the correction it implies
+//     agrees (loop_consistency_distance / _angle, both corrections applied
+//     to k's estimate, so that the test does not depend on how far the
+//     place is from the map's origin) with a passing match of another
+//     keyframe within loop_consistency_keyframes; both then
 //     enter the graph as between factors with the robust kernel loop_kernel.
 //     Places already holding loop_place_max_closures closures are skipped.
 //     When nothing closes for loop_global_min_path metres, a global search
@@ -193,7 +197,11 @@ struct LaserSlamConfig {
   // loop_global_candidates (from different places) with the smallest
   // descriptor distance, at most loop_global_max_distance, are verified
   // like local candidates but from the descriptor's rotation over
-  // +-loop_global_window (m). A global match is accepted only when
+  // +-loop_global_window (m) and +-2 sectors (the descriptor's rotation is
+  // good to a sector). The ring key (scan_context.h) holds each ring's
+  // occupancy and its harmonics' magnitudes: the occupancy alone is about
+  // the same for every corridor and preselected arbitrary corridors. A
+  // global match is accepted only when
   // loop_global_min_agreeing other passing matches of recent keyframes
   // imply the same correction (local ones need one). Closures (global or
   // local) moving their keyframe by more than 2 m or 0.35 rad are first

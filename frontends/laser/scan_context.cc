@@ -12,7 +12,9 @@ ScanContext MakeScanContext(const Points2& points,
   sc.rings = std::max(1, options.rings);
   sc.sectors = std::max(1, options.sectors);
   sc.cells.assign(static_cast<size_t>(sc.rings) * sc.sectors, 0.0f);
-  sc.ring_key.assign(sc.rings, 0.0f);
+  const int harmonics =
+      std::max(0, std::min(options.key_harmonics, sc.sectors / 2));
+  sc.ring_key.assign(static_cast<size_t>(sc.rings) * (harmonics + 1), 0.0f);
   for (const Eigen::Vector2d& p : points) {
     const double r = p.norm();
     if (!(r < options.max_range)) continue;
@@ -25,19 +27,30 @@ ScanContext MakeScanContext(const Points2& points,
     sc.cells[static_cast<size_t>(ring) * sc.sectors + sector] = 1.0f;
   }
   for (int i = 0; i < sc.rings; ++i) {
-    float sum = 0.0f;
-    for (int s = 0; s < sc.sectors; ++s) {
-      sum += sc.cells[static_cast<size_t>(i) * sc.sectors + s];
+    const float* row = &sc.cells[static_cast<size_t>(i) * sc.sectors];
+    float* key = &sc.ring_key[static_cast<size_t>(i) * (harmonics + 1)];
+    for (int s = 0; s < sc.sectors; ++s) key[0] += row[s];
+    key[0] /= sc.sectors;
+    for (int h = 1; h <= harmonics; ++h) {
+      double re = 0.0, im = 0.0;
+      for (int s = 0; s < sc.sectors; ++s) {
+        if (row[s] == 0.0f) continue;
+        const double phase = 2.0 * M_PI * h * s / sc.sectors;
+        re += std::cos(phase);
+        im += std::sin(phase);
+      }
+      key[h] = static_cast<float>(std::hypot(re, im) / sc.sectors);
     }
-    sc.ring_key[i] = sum / sc.sectors;
   }
   return sc;
 }
 
 double RingKeyDistance(const ScanContext& a, const ScanContext& b) {
-  if (a.rings != b.rings) return std::numeric_limits<double>::infinity();
+  if (a.ring_key.size() != b.ring_key.size()) {
+    return std::numeric_limits<double>::infinity();
+  }
   double d = 0.0;
-  for (int i = 0; i < a.rings; ++i) {
+  for (size_t i = 0; i < a.ring_key.size(); ++i) {
     const double e = a.ring_key[i] - b.ring_key[i];
     d += e * e;
   }

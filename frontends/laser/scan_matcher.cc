@@ -443,7 +443,8 @@ Pose2 MatchTarget::Correlative(const Points2& source, const Pose2& initial,
     double upper;
     int angle, dx, dy;
   };
-  double best = -1.0;
+  const double min_sum = options.min_score * static_cast<double>(n);
+  double best = options.min_score > 0 ? min_sum : -1.0;
   int best_a = ntheta, best_dx = 0, best_dy = 0;
   auto by_score = [](const Candidate& u, const Candidate& v) {
     return u.upper > v.upper;
@@ -483,6 +484,7 @@ Pose2 MatchTarget::Correlative(const Points2& source, const Pose2& initial,
     }
   }
   search(roots, top);
+  if (options.min_score > 0 && !(best > min_sum)) return initial;
   *score = std::max(0.0, best) / static_cast<double>(n);
   return Pose2(initial.t.x() + best_dx * res, initial.t.y() + best_dy * res,
                initial.theta + (best_a - ntheta) * options.step_theta);

@@ -73,6 +73,13 @@ struct CorrelativeOptions {
   double window_xy = 0.3;     // Search +-window around the guess (m).
   double window_theta = 0.2;  // ... (rad).
   double step_theta = 0.005;  // Angular step (rad).
+  // Poses scoring (mean likelihood) below this are not searched: the bound
+  // prunes them at the coarsest level. When none reaches it, the search
+  // returns the initial pose with score 0. Loop verification sets it to
+  // the score a closure needs (most candidates fail, and proving that
+  // nothing reaches the score is cheap where proving which pose is best
+  // is not).
+  double min_score = 0.0;
 };
 
 struct MatchResult {
