@@ -13,7 +13,7 @@
 //             [--relations_interpolate] [--report FILE.json]
 //             (the relation-based error of Kuemmerle et al. 2009; no --ref)
 //
-// Definitions: core/evaluation.h (evo's APE/RPE, the KITTI devkit metric).
+// Definitions: core/metrics/ (evo's APE/RPE, the KITTI devkit metric).
 // Exit codes: 0 success, 1 evaluation or file error, 2 usage error.
 #include <chrono>
 #include <cstdio>
@@ -31,7 +31,7 @@
 #include "apps/json.h"
 #include "apps/relation_report.h"
 #include "apps/yaml_config.h"
-#include "core/evaluation.h"
+#include "core/metrics/evaluation.h"
 #include "datasets/atomic_file.h"
 #include "datasets/relations_io.h"
 #include "datasets/trajectory_io.h"

@@ -7,7 +7,7 @@
 //   ReadTrajectory(FLAGS_gt, {}, &gt, &error);
 //   Trajectory est;
 //   TrajectoryFromGraph(graph, false, &est, &error);  // stamps = node ids
-//   EvalSettings settings;  // core/evaluation.h (+ ReadEvalSettingsYaml)
+//   EvalSettings settings;  // core/metrics/ (+ ReadEvalSettingsYaml)
 //   settings.association = ChooseAssociation(gt.has_stamps, true);
 //   EvalResult result;
 //   if (!EvaluateAndReport(gt.poses, est, settings, FLAGS_plot, std::cout,
@@ -23,7 +23,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "apps/json.h"
-#include "core/evaluation.h"
+#include "core/metrics/evaluation.h"
 #include "core/trajectory.h"
 
 namespace slam {

@@ -19,7 +19,7 @@
 #include <string>
 #include <vector>
 
-#include "core/evaluation.h"
+#include "core/metrics/evaluation.h"
 
 namespace slam {
 

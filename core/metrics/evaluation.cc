@@ -1,4 +1,4 @@
-#include "core/evaluation.h"
+#include "core/metrics/evaluation.h"
 
 #include <algorithm>
 #include <charconv>

@@ -91,8 +91,8 @@
 //   metric uses the estimate as read, except with a scale alignment (sim3,
 //   scale), where it uses the scaled estimate (rigid alignments do not change
 //   relative poses).
-#ifndef SLAM_CORE_EVALUATION_H_
-#define SLAM_CORE_EVALUATION_H_
+#ifndef SLAM_CORE_METRICS_EVALUATION_H_
+#define SLAM_CORE_METRICS_EVALUATION_H_
 
 #include <cstddef>
 #include <string>
@@ -459,4 +459,4 @@ bool EvaluateTrajectories(const Trajectory& ref, const Trajectory& est,
 
 }  // namespace slam
 
-#endif  // SLAM_CORE_EVALUATION_H_
+#endif  // SLAM_CORE_METRICS_EVALUATION_H_
