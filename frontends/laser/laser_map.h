@@ -5,7 +5,7 @@
 
 #include <vector>
 
-#include "datasets/carmen_io.h"
+#include "core/sensors/laser_data.h"
 #include "frontends/laser/laser_slam.h"
 #include "frontends/laser/occupancy_grid.h"
 

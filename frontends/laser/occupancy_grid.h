@@ -35,7 +35,7 @@
 #include <vector>
 
 #include "core/lie.h"
-#include "datasets/carmen_io.h"
+#include "core/sensors/laser_data.h"
 
 namespace slam {
 
