@@ -1,7 +1,7 @@
 // Evaluating an estimate against a ground truth and reporting it: the table
 // printed on stdout, the JSON objects of the report, the plots, and the
-// `eval:` YAML section. `slam eval` uses it, and so does every command that
-// evaluates its own result in the same run (`slam optimize --gt FILE`):
+// `eval:` YAML section (eval_config.h). `slam eval` uses it, and so does every
+// command that evaluates its own result in the same run (`slam optimize --gt`):
 //
 //   TrajectoryData gt;  // datasets/trajectory_io.h
 //   ReadTrajectory(FLAGS_gt, {}, &gt, &error);
@@ -20,8 +20,7 @@
 #include <string>
 #include <vector>
 
-#include <yaml-cpp/yaml.h>
-
+#include "apps/eval_config.h"
 #include "apps/json.h"
 #include "core/metrics/evaluation.h"
 #include "core/trajectory.h"
@@ -87,25 +86,6 @@ bool WriteEvalPlots(const std::string& dir, const EvalResult& result,
 bool WriteEvalPlotsImpl(const std::string& dir, const EvalResult& result,
                         const EvalSettings& settings, const EvalLabels& labels,
                         std::vector<std::string>* written, std::string* error);
-
-// The `eval:` section of a YAML config. Keys: associate (auto|time|index),
-// t_max_diff, t_offset, unique_pairs, align (none|se3|sim3|scale|origin),
-// n_to_align, rpe_delta, rpe_unit (frames|m|s), rpe_all_pairs,
-// rpe_pairs_from_reference, rpe_delta_tol, kitti, relations_t_max_diff,
-// relations_interpolate (for slam eval --relations). Unknown keys are errors.
-// *associate_auto is set when associate is auto (the caller decides from the
-// stamps).
-bool ReadEvalSettingsYaml(const YAML::Node& node, const std::string& where,
-                          EvalSettings* settings, bool* associate_auto,
-                          std::string* error);
-// The `eval:` section of the YAML config file `config_path` (empty: none)
-// into *settings, for commands that evaluate as a side job (optimize --gt,
-// inertial --gt). Leaves *settings alone when there is no such section.
-bool LoadEvalSectionOfConfig(const std::string& config_path,
-                             EvalSettings* settings, std::string* error);
-// The same keys as YAML text (each line indented by `indent` spaces).
-std::string EvalSettingsYaml(const EvalSettings& settings, bool associate_auto,
-                             int indent);
 
 }  // namespace slam
 
