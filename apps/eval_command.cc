@@ -174,20 +174,7 @@ bool BuildSettings(EvalSettings* s, bool* associate_auto, std::string* error) {
   if (use("relations_interpolate")) {
     s->relations.interpolate = FLAGS_relations_interpolate;
   }
-  if (!(s->relations.t_max_diff >= 0.0)) {
-    *error = "relations_t_max_diff must be >= 0";
-    return false;
-  }
-  if (!CheckAssociationOptions(s->sync, error)) return false;
-  if (!(s->rpe.delta > 0.0)) {
-    *error = "rpe_delta must be > 0";
-    return false;
-  }
-  if (!(s->rpe.rel_delta_tol >= 0.0)) {
-    *error = "rpe_delta_tol must be >= 0";
-    return false;
-  }
-  return true;
+  return CheckEvalSettings(*s, error);
 }
 
 std::string Describe(const TrajectoryData& d) {

@@ -123,4 +123,21 @@ std::string EvalSettingsYaml(const EvalSettings& s, bool associate_auto,
   return o.str();
 }
 
+bool CheckEvalSettings(const EvalSettings& s, std::string* error) {
+  if (!(s.relations.t_max_diff >= 0.0)) {
+    *error = "relations_t_max_diff must be >= 0";
+    return false;
+  }
+  if (!CheckAssociationOptions(s.sync, error)) return false;
+  if (!(s.rpe.delta > 0.0)) {
+    *error = "rpe_delta must be > 0";
+    return false;
+  }
+  if (!(s.rpe.rel_delta_tol >= 0.0)) {
+    *error = "rpe_delta_tol must be >= 0";
+    return false;
+  }
+  return true;
+}
+
 }  // namespace slam

@@ -30,6 +30,11 @@ bool LoadEvalSectionOfConfig(const std::string& config_path,
 std::string EvalSettingsYaml(const EvalSettings& settings, bool associate_auto,
                              int indent);
 
+// The ranges the evaluation needs: t_max_diff and relations_t_max_diff >= 0,
+// a finite t_offset, rpe_delta > 0, rpe_delta_tol >= 0. False with a message
+// naming the setting.
+bool CheckEvalSettings(const EvalSettings& settings, std::string* error);
+
 }  // namespace slam
 
 #endif  // SLAM_APPS_EVAL_CONFIG_H_
