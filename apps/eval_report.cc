@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <iostream>
 #include <sstream>
 
 #include "apps/format.h"
@@ -287,6 +288,30 @@ bool EvaluateAndReport(const Trajectory& ref, const Trajectory& est,
                        EvalResult* result, std::string* error) {
   return EvaluateAndReport(ref, est, settings, EvalLabels(), plot_dir, out,
                            result, error);
+}
+
+bool EvaluateGraphAgainstGroundTruth(const Graph& graph,
+                                     const TrajectoryData& gt,
+                                     const std::string& gt_name,
+                                     const std::string& config_path,
+                                     const std::string& plot_dir,
+                                     JsonObject* report, std::string* error) {
+  Trajectory estimate;
+  if (!TrajectoryFromGraph(graph, false, &estimate, error)) return false;
+  EvalSettings settings;
+  if (!LoadEvalSectionOfConfig(config_path, &settings, error)) return false;
+  settings.association = ChooseAssociation(gt.has_stamps, true);
+  EvalLabels labels;
+  labels.ref_name = "ground truth";
+  labels.est_name = "optimized";
+  EvalResult result;
+  std::printf("\nevaluation against %s:\n", gt_name.c_str());
+  if (!EvaluateAndReport(gt.poses, estimate, settings, labels, plot_dir,
+                         std::cout, &result, error)) {
+    return false;
+  }
+  report->Add("evaluation", EvalResultJson(result, settings));
+  return true;
 }
 
 }  // namespace slam

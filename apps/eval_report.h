@@ -22,8 +22,10 @@
 
 #include "apps/eval_config.h"
 #include "apps/json.h"
+#include "core/graph.h"
 #include "core/metrics/evaluation.h"
 #include "core/trajectory.h"
+#include "datasets/trajectory_io.h"
 
 namespace slam {
 
@@ -50,6 +52,18 @@ bool EvaluateAndReport(const EvalTrajectory& ref, const EvalTrajectory& est,
                        const EvalSettings& settings, const EvalLabels& labels,
                        const std::string& plot_dir, std::ostream& out,
                        EvalResult* result, std::string* error);
+
+// `slam optimize --gt`: evaluates the pose nodes of `graph` (stamped by node
+// id, in seconds, as `slam simulate` stamps its ground truth) against `gt`
+// (read from gt_name) with the `eval:` section of config_path (may be
+// empty), prints under "evaluation against GT_NAME:", plots into plot_dir
+// when not empty, and adds "evaluation" to *report.
+bool EvaluateGraphAgainstGroundTruth(const Graph& graph,
+                                     const TrajectoryData& gt,
+                                     const std::string& gt_name,
+                                     const std::string& config_path,
+                                     const std::string& plot_dir,
+                                     JsonObject* report, std::string* error);
 
 // Index association when either side has no stamps (KITTI without times).
 AssociationMethod ChooseAssociation(bool ref_has_stamps, bool est_has_stamps);
