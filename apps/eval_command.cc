@@ -13,7 +13,7 @@
 //             [--relations_interpolate] [--report FILE.json]
 //             (the relation-based error of Kuemmerle et al. 2009; no --ref)
 //
-// Definitions: core/evaluation.h (evo's APE/RPE, the KITTI devkit metric).
+// Definitions: core/metrics/ (evo's APE/RPE, the KITTI devkit metric).
 // Exit codes: 0 success, 1 evaluation or file error, 2 usage error.
 #include <chrono>
 #include <cstdio>
@@ -31,7 +31,7 @@
 #include "apps/json.h"
 #include "apps/relation_report.h"
 #include "apps/yaml_config.h"
-#include "core/evaluation.h"
+#include "core/metrics/evaluation.h"
 #include "datasets/atomic_file.h"
 #include "datasets/relations_io.h"
 #include "datasets/trajectory_io.h"
@@ -174,20 +174,7 @@ bool BuildSettings(EvalSettings* s, bool* associate_auto, std::string* error) {
   if (use("relations_interpolate")) {
     s->relations.interpolate = FLAGS_relations_interpolate;
   }
-  if (!(s->relations.t_max_diff >= 0.0)) {
-    *error = "relations_t_max_diff must be >= 0";
-    return false;
-  }
-  if (!CheckAssociationOptions(s->sync, error)) return false;
-  if (!(s->rpe.delta > 0.0)) {
-    *error = "rpe_delta must be > 0";
-    return false;
-  }
-  if (!(s->rpe.rel_delta_tol >= 0.0)) {
-    *error = "rpe_delta_tol must be >= 0";
-    return false;
-  }
-  return true;
+  return CheckEvalSettings(*s, error);
 }
 
 std::string Describe(const TrajectoryData& d) {

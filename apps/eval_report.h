@@ -1,13 +1,13 @@
 // Evaluating an estimate against a ground truth and reporting it: the table
 // printed on stdout, the JSON objects of the report, the plots, and the
-// `eval:` YAML section. `slam eval` uses it, and so does every command that
-// evaluates its own result in the same run (`slam optimize --gt FILE`):
+// `eval:` YAML section (eval_config.h). `slam eval` uses it, and so does every
+// command that evaluates its own result in the same run (`slam optimize --gt`):
 //
 //   TrajectoryData gt;  // datasets/trajectory_io.h
 //   ReadTrajectory(FLAGS_gt, {}, &gt, &error);
 //   Trajectory est;
 //   TrajectoryFromGraph(graph, false, &est, &error);  // stamps = node ids
-//   EvalSettings settings;  // core/evaluation.h (+ ReadEvalSettingsYaml)
+//   EvalSettings settings;  // core/metrics/ (+ ReadEvalSettingsYaml)
 //   settings.association = ChooseAssociation(gt.has_stamps, true);
 //   EvalResult result;
 //   if (!EvaluateAndReport(gt.poses, est, settings, FLAGS_plot, std::cout,
@@ -20,11 +20,12 @@
 #include <string>
 #include <vector>
 
-#include <yaml-cpp/yaml.h>
-
+#include "apps/eval_config.h"
 #include "apps/json.h"
-#include "core/evaluation.h"
+#include "core/graph.h"
+#include "core/metrics/evaluation.h"
 #include "core/trajectory.h"
+#include "datasets/trajectory_io.h"
 
 namespace slam {
 
@@ -51,6 +52,18 @@ bool EvaluateAndReport(const EvalTrajectory& ref, const EvalTrajectory& est,
                        const EvalSettings& settings, const EvalLabels& labels,
                        const std::string& plot_dir, std::ostream& out,
                        EvalResult* result, std::string* error);
+
+// `slam optimize --gt`: evaluates the pose nodes of `graph` (stamped by node
+// id, in seconds, as `slam simulate` stamps its ground truth) against `gt`
+// (read from gt_name) with the `eval:` section of config_path (may be
+// empty), prints under "evaluation against GT_NAME:", plots into plot_dir
+// when not empty, and adds "evaluation" to *report.
+bool EvaluateGraphAgainstGroundTruth(const Graph& graph,
+                                     const TrajectoryData& gt,
+                                     const std::string& gt_name,
+                                     const std::string& config_path,
+                                     const std::string& plot_dir,
+                                     JsonObject* report, std::string* error);
 
 // Index association when either side has no stamps (KITTI without times).
 AssociationMethod ChooseAssociation(bool ref_has_stamps, bool est_has_stamps);
@@ -87,25 +100,6 @@ bool WriteEvalPlots(const std::string& dir, const EvalResult& result,
 bool WriteEvalPlotsImpl(const std::string& dir, const EvalResult& result,
                         const EvalSettings& settings, const EvalLabels& labels,
                         std::vector<std::string>* written, std::string* error);
-
-// The `eval:` section of a YAML config. Keys: associate (auto|time|index),
-// t_max_diff, t_offset, unique_pairs, align (none|se3|sim3|scale|origin),
-// n_to_align, rpe_delta, rpe_unit (frames|m|s), rpe_all_pairs,
-// rpe_pairs_from_reference, rpe_delta_tol, kitti, relations_t_max_diff,
-// relations_interpolate (for slam eval --relations). Unknown keys are errors.
-// *associate_auto is set when associate is auto (the caller decides from the
-// stamps).
-bool ReadEvalSettingsYaml(const YAML::Node& node, const std::string& where,
-                          EvalSettings* settings, bool* associate_auto,
-                          std::string* error);
-// The `eval:` section of the YAML config file `config_path` (empty: none)
-// into *settings, for commands that evaluate as a side job (optimize --gt,
-// inertial --gt). Leaves *settings alone when there is no such section.
-bool LoadEvalSectionOfConfig(const std::string& config_path,
-                             EvalSettings* settings, std::string* error);
-// The same keys as YAML text (each line indented by `indent` spaces).
-std::string EvalSettingsYaml(const EvalSettings& settings, bool associate_auto,
-                             int indent);
 
 }  // namespace slam
 

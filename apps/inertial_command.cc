@@ -109,58 +109,6 @@ bool ReadInput(const InertialConfig& config, InertialData* data,
   return ReadGtsamImuCsv(FLAGS_i, kGtsamImuDt, data, error);
 }
 
-std::string StatesCsv(const std::vector<InertialState>& states) {
-  std::string out = "#timestamp [ns],vx,vy,vz,bgx,bgy,bgz,bax,bay,baz\n";
-  char buffer[64];
-  for (const InertialState& s : states) {
-    out += std::to_string(s.stamp);
-    for (int i = 0; i < 3; ++i) {
-      std::snprintf(buffer, sizeof(buffer), ",%.17g", s.state.velocity[i]);
-      out += buffer;
-    }
-    for (int i = 0; i < 6; ++i) {
-      std::snprintf(buffer, sizeof(buffer), ",%.17g", s.bias[i]);
-      out += buffer;
-    }
-    out += "\n";
-  }
-  return out;
-}
-
-// initial_state: ground_truth. Drops the IMU readings before the first
-// ground-truth state and starts there, bias included (*bias: the prior mean
-// of the first keyframe's bias).
-bool StartAtGroundTruth(InertialData* data, ImuBias* bias, std::string* error) {
-  if (data->ground_truth.empty()) {
-    *error = "initial_state ground_truth: the input has no ground truth";
-    return false;
-  }
-  const InertialGroundTruth& first = data->ground_truth.front();
-  size_t s = 0;
-  while (s < data->imu.size() && data->imu[s].stamp < first.stamp) ++s;
-  if (s == data->imu.size()) {
-    *error =
-        "initial_state ground_truth: no IMU reading after the first "
-        "ground-truth state";
-    return false;
-  }
-  data->imu.erase(data->imu.begin(), data->imu.begin() + s);
-  if (data->imu_lines.size() >= s) {
-    data->imu_lines.erase(data->imu_lines.begin(), data->imu_lines.begin() + s);
-  }
-  // The ground-truth state at (or just before) the first kept reading.
-  const InertialGroundTruth* start = &first;
-  for (const InertialGroundTruth& g : data->ground_truth) {
-    if (g.stamp > data->imu.front().stamp) break;
-    start = &g;
-  }
-  data->has_initial_state = true;
-  data->initial_state.pose = start->pose;
-  data->initial_state.velocity = start->velocity;
-  *bias = start->bias;
-  return true;
-}
-
 // Prints the initializer's summary (stdout) and, when the heading never
 // became observable, a warning (stderr); the report's "initialization".
 JsonObject InitializationJson(const InertialRun& run,

@@ -97,6 +97,24 @@ void PrintRow(const char* label, const NeesSummary& s, std::ostream& out) {
 
 }  // namespace
 
+std::string StatesCsv(const std::vector<InertialState>& states) {
+  std::string out = "#timestamp [ns],vx,vy,vz,bgx,bgy,bgz,bax,bay,baz\n";
+  char buffer[64];
+  for (const InertialState& s : states) {
+    out += std::to_string(s.stamp);
+    for (int i = 0; i < 3; ++i) {
+      std::snprintf(buffer, sizeof(buffer), ",%.17g", s.state.velocity[i]);
+      out += buffer;
+    }
+    for (int i = 0; i < 6; ++i) {
+      std::snprintf(buffer, sizeof(buffer), ",%.17g", s.bias[i]);
+      out += buffer;
+    }
+    out += "\n";
+  }
+  return out;
+}
+
 std::string CovarianceCsv(const std::vector<InertialState>& states,
                           const std::vector<Eigen::MatrixXd>& covariances) {
   std::string out = Header();

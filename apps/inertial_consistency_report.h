@@ -1,4 +1,4 @@
-// Covariance output and NEES report of `slam inertial`
+// State and covariance outputs and NEES report of `slam inertial`
 // (apps/inertial_command.cc), NEES as frontends/inertial/
 // inertial_consistency.h defines it.
 //
@@ -28,6 +28,10 @@ namespace slam {
 // index (their sizes must agree).
 std::string CovarianceCsv(const std::vector<InertialState>& states,
                           const std::vector<Eigen::MatrixXd>& covariances);
+
+// The states CSV text: "#timestamp [ns],vx,vy,vz,bgx,bgy,bgz,bax,bay,baz"
+// (world velocity, gyro then accel bias), numbers in %.17g.
+std::string StatesCsv(const std::vector<InertialState>& states);
 
 // Parses CovarianceCsv's text back (for tests and tools): stamps and full
 // symmetric 15 x 15 matrices. False with "line N: problem" on bad text.

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "frontends/occupancy_grid.h"
+#include "frontends/laser/occupancy_grid.h"
 
 namespace slam {
 

@@ -1,11 +1,9 @@
 // slam optimize: read a pose graph, initialize, optimize, write the result.
-#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <map>
-#include <set>
 #include <sstream>
 #include <vector>
 
@@ -18,14 +16,13 @@
 #include "apps/map_plot.h"
 #include "apps/optimize_config.h"
 #include "apps/yaml_config.h"
-#include "core/initialization.h"
 #include "core/marginals.h"
 #include "datasets/atomic_file.h"
 #include "datasets/g2o_io.h"
 #include "datasets/stereo_vo_io.h"
 #include "datasets/trajectory_io.h"
 #include "factors/landmark_factors.h"
-#include "factors/landmark_init.h"
+#include "frontends/posegraph/graph_solve.h"
 
 DEFINE_string(i, "",
               "input graph file (g2o, TORO .graph, iSAM; or the stereo "
@@ -123,259 +120,9 @@ bool ParseIds(const std::string& text, std::vector<int64_t>* ids,
   return true;
 }
 
-// Which robust kernel a factor gets.
-const RobustKernelSpec& KernelFor(const OptimizeConfig& config,
-                                  const Factor& factor) {
-  if (IsLandmarkFactor(factor.type)) return config.robust_landmark;
-  if (factor.keys.size() == 1) return config.robust_prior;
-  const int64_t gap = factor.keys[1].id - factor.keys[0].id;
-  return gap == 1 || gap == -1 ? config.robust_odometry
-                               : config.robust_loop_closure;
-}
-
-void ApplyKernels(const OptimizeConfig& config, Graph* graph) {
-  std::vector<std::pair<FactorId, std::shared_ptr<ceres::LossFunction>>> losses;
-  for (const auto& [id, factor] : graph->factors()) {
-    losses.emplace_back(id, MakeLoss(KernelFor(config, factor)));
-  }
-  for (auto& [id, loss] : losses) graph->SetLoss(id, std::move(loss));
-}
-
 double Seconds(std::chrono::steady_clock::time_point since) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - since)
       .count();
-}
-
-// Values of all nodes, to restore a start that turned out worse.
-std::vector<std::vector<double>> SaveValues(const Graph& graph) {
-  std::vector<std::vector<double>> values;
-  for (const auto& [key, node] : graph.nodes()) values.push_back(node->value);
-  return values;
-}
-
-void RestoreValues(const std::vector<std::vector<double>>& values,
-                   Graph* graph) {
-  size_t k = 0;
-  for (const auto& [key, node] : graph->nodes()) {
-    std::copy(values[k].begin(), values[k].end(), node->value.begin());
-    ++k;
-  }
-}
-
-bool HasBetweenFactors(const Graph& graph) {
-  for (const auto& [id, f] : graph.factors()) {
-    if (f.type == FactorType::kBetweenSE2 ||
-        f.type == FactorType::kBetweenSE3) {
-      return true;
-    }
-  }
-  return false;
-}
-
-// True if the relative-pose factors join the pose nodes without a cycle.
-bool IsForest(const Graph& graph) {
-  std::map<Key, Key> parent;
-  const auto find = [&parent](Key k) {
-    for (auto it = parent.find(k); it != parent.end() && it->second != k;
-         it = parent.find(k)) {
-      k = it->second;
-    }
-    return k;
-  };
-  for (const auto& [id, f] : graph.factors()) {
-    if (f.type != FactorType::kBetweenSE2 &&
-        f.type != FactorType::kBetweenSE3) {
-      continue;
-    }
-    const Key a = find(f.keys[0]);
-    const Key b = find(f.keys[1]);
-    if (a == b) return false;
-    parent[a] = b;
-    parent[f.keys[0]] = b;  // Keeps the paths short.
-    parent[f.keys[1]] = b;
-  }
-  return true;
-}
-
-// Poses by the method, then (landmarks_from_observations) the landmarks
-// again from their observations, since the poses moved.
-// The initialization's limits on sparse factors are the optimizer's.
-InitOptions InitOptionsOf(const OptimizerOptions& optimizer) {
-  InitOptions options;
-  options.max_factor_bytes = optimizer.max_factor_bytes;
-  options.max_factor_flops = optimizer.max_factor_flops;
-  options.iterative_fallback = optimizer.iterative_fallback;
-  return options;
-}
-
-bool InitializeWith(InitMethod method, bool landmarks_from_observations,
-                    const InitOptions& options, Graph* graph,
-                    std::string* error) {
-  InitReport report;
-  const bool ok =
-      InitializePoses(graph, method, error, nullptr, options, &report);
-  if (report.backend == LinearBackend::kIterative) {
-    std::printf(
-        "chordal initialization: no sparse factor fits, conjugate gradients "
-        "(%d iterations, relative residual %.2g)\n",
-        report.iterative_iterations, report.iterative_error);
-  }
-  if (!ok) return false;
-  if (landmarks_from_observations && method != InitMethod::kNone) {
-    const LandmarkInitReport report = InitializeLandmarks(graph);
-    if (report.failed > 0) {
-      *error = std::to_string(report.failed) +
-               " landmark(s) cannot be initialized from their observations";
-      return false;
-    }
-  }
-  return true;
-}
-
-bool IsPoseKey(const Key& key) {
-  return key.kind == NodeKind::kPose2 || key.kind == NodeKind::kPose3;
-}
-
-// Landmark SLAM from dead reckoning (an odometry tree, landmarks placed at
-// their first sightings): solved over growing prefixes of the trajectory
-// (poses by id, which is time in these files), 1/2^(stages-1), ..., 1/2 of
-// the poses, then all. After each prefix the poses beyond it are composed
-// again from the optimized end of the prefix and the landmarks first seen
-// beyond it are placed again from the optimized poses. Victoria Park: one
-// batch solve from dead reckoning stops in a local minimum (chi2 503277,
-// landmarks up to 265 m off) where every batch solver tried stays; solving
-// the first half first places the landmarks of the second half well enough
-// that the batch reaches the good minimum (6183.93, as incremental iSAM).
-// Returns the summed iterations of the prefix solves.
-int OptimizeInStages(int stages, const OptimizerOptions& options,
-                     Graph* graph) {
-  std::vector<Key> poses;
-  for (const auto& [key, node] : graph->nodes()) {
-    if (IsPoseKey(key)) poses.push_back(key);
-  }
-  std::sort(poses.begin(), poses.end(),
-            [](const Key& a, const Key& b) { return a.id < b.id; });
-  OptimizerOptions quiet = options;
-  quiet.verbose = false;
-  int iterations = 0;
-  for (int stage = stages - 1; stage >= 1; --stage) {
-    const size_t count = poses.size() >> stage;
-    if (count < 2) continue;
-    const int64_t last_id = poses[count - 1].id;
-    auto active = [&](const Key& key) {
-      return !IsPoseKey(key) || key.id <= last_id;
-    };
-    Graph prefix;
-    for (const auto& [id, factor] : graph->factors()) {
-      if (!std::all_of(factor.keys.begin(), factor.keys.end(), active)) {
-        continue;
-      }
-      for (const Key& key : factor.keys) {
-        if (prefix.HasNode(key)) continue;
-        const Node* node = graph->FindNode(key);
-        prefix.AddNode(key, node->value);
-        if (node->fixed) prefix.SetFixed(key, true);
-      }
-      prefix.AddFactor(factor);
-    }
-    const OptimizerSummary summary = Optimize(&prefix, quiet, nullptr);
-    iterations += summary.iterations;
-    std::printf(
-        "stage %d/%d: poses up to id %lld (%zu of %zu), chi2 %.10g -> %.10g, "
-        "%d iterations\n",
-        stages - stage, stages, static_cast<long long>(last_id), count,
-        poses.size(), summary.initial_chi2, summary.final_chi2,
-        summary.iterations);
-    if (!summary.usable) break;
-    std::set<Key> later_poses, later_points;
-    for (const auto& [key, node] : graph->nodes()) {
-      if (prefix.HasNode(key)) {
-        node->value = prefix.FindNode(key)->value;
-      } else {
-        (IsPoseKey(key) ? later_poses : later_points).insert(key);
-      }
-    }
-    std::string error;
-    if (!later_poses.empty() &&
-        !InitializePoses(graph, InitMethod::kSpanningTree, &error,
-                         &later_poses)) {
-      std::printf("stage %d/%d: %s; the remaining poses keep their values\n",
-                  stages - stage, stages, error.c_str());
-    }
-    if (!later_points.empty()) InitializeLandmarks(graph, &later_points);
-  }
-  return iterations;
-}
-
-// Runs the configured initialization; returns the name of what was used.
-// Graphs without relative-pose factors (bundle adjustment) keep their poses.
-bool Initialize(const std::string& init, bool landmarks_from_observations,
-                const InitOptions& options, Graph* graph, std::string* used,
-                std::string* error) {
-  if (!HasBetweenFactors(*graph)) {
-    *used = "file (no relative-pose factors)";
-    return true;
-  }
-  if (init != "auto") {
-    InitMethod method;
-    ParseInitMethod(init, &method);
-    *used = init;
-    return InitializeWith(method, landmarks_from_observations, options, graph,
-                          error);
-  }
-  // Relative-pose factors forming a forest (pure odometry, as in landmark
-  // SLAM files like Victoria Park) are satisfied exactly by composing them:
-  // the spanning tree is the chordal solution, without the relaxation.
-  const bool forest = landmarks_from_observations && IsForest(*graph);
-  const InitMethod method =
-      forest ? InitMethod::kSpanningTree : InitMethod::kChordal;
-  const char* name = forest ? "spanning_tree" : "chordal";
-  // Compared under the robust kernels when there are any: a relaxation that
-  // spread outlier loop closures over the whole graph scores badly there.
-  const double file_chi2 = graph->RobustChi2();
-  const std::vector<std::vector<double>> file_values = SaveValues(*graph);
-  if (!InitializeWith(method, landmarks_from_observations, options, graph,
-                      error)) {
-    return false;
-  }
-  const double computed_chi2 = graph->RobustChi2();
-  // The better start of the two; the file's guess only when it has one.
-  if (file_chi2 < computed_chi2) {
-    RestoreValues(file_values, graph);
-    *used = "file";
-  } else {
-    *used = name;
-  }
-  std::printf(
-      "auto initialization: chi2 of the file's guess %.10g, of the "
-      "%s %.10g: using %s\n",
-      file_chi2,
-      forest ? "spanning tree (the relative-pose factors form a tree)"
-             : "chordal relaxation",
-      computed_chi2, used->c_str());
-  return true;
-}
-
-// --gt: evaluates the optimized poses (stamped by node id, in seconds, as
-// `slam simulate` stamps its ground truth) against the reference.
-bool EvaluateAgainstGroundTruth(const Graph& graph, const TrajectoryData& gt,
-                                JsonObject* report, std::string* error) {
-  Trajectory estimate;
-  if (!TrajectoryFromGraph(graph, false, &estimate, error)) return false;
-  EvalSettings settings;
-  if (!LoadEvalSectionOfConfig(FLAGS_config, &settings, error)) return false;
-  settings.association = ChooseAssociation(gt.has_stamps, true);
-  EvalLabels labels;
-  labels.ref_name = "ground truth";
-  labels.est_name = "optimized";
-  EvalResult result;
-  std::printf("\nevaluation against %s:\n", FLAGS_gt.c_str());
-  if (!EvaluateAndReport(gt.poses, estimate, settings, labels, FLAGS_plot,
-                         std::cout, &result, error)) {
-    return false;
-  }
-  report->Add("evaluation", EvalResultJson(result, settings));
-  return true;
 }
 
 }  // namespace
@@ -415,16 +162,8 @@ int RunOptimizeCommand(const std::vector<std::string>& args) {
   // Fail before any work on outputs that cannot be written and on a ground
   // truth that cannot be read: a failed run leaves no output behind.
   for (const std::string& out : {FLAGS_o, FLAGS_report}) {
-    if (out.empty()) continue;
-    const std::filesystem::path parent =
-        std::filesystem::absolute(out).parent_path();
-    if (!std::filesystem::is_directory(parent)) {
-      std::cerr << "slam optimize: " << out << ": the directory "
-                << parent.string() << " does not exist\n";
-      return 1;
-    }
-    if (std::filesystem::is_directory(out)) {
-      std::cerr << "slam optimize: " << out << ": is a directory\n";
+    if (!out.empty() && !CheckOutputPath(out, &error)) {
+      std::cerr << "slam optimize: " << error << "\n";
       return 1;
     }
   }
@@ -492,7 +231,7 @@ int RunOptimizeCommand(const std::vector<std::string>& args) {
     marginal_keys.push_back(graph.HasNode(key2) ? key2 : key3);
   }
 
-  ApplyKernels(config, &graph);
+  ApplyRobustKernels(config, &graph);
 
   // Initialize.
   const auto init_start = std::chrono::steady_clock::now();
@@ -513,9 +252,9 @@ int RunOptimizeCommand(const std::vector<std::string>& args) {
                     : "values from the input");
   }
   const PixelErrorStats pixels_before = CameraPixelErrors(graph);
-  if (!Initialize(config.init, landmarks_from_observations,
-                  InitOptionsOf(config.optimizer), &graph, &init_used,
-                  &error)) {
+  if (!InitializeGraph(config.init, landmarks_from_observations,
+                       InitOptionsOf(config.optimizer), &graph, &init_used,
+                       &error)) {
     std::cerr << "slam optimize: initialization failed: " << error << "\n";
     return 1;
   }
@@ -524,20 +263,12 @@ int RunOptimizeCommand(const std::vector<std::string>& args) {
               graph.Chi2(), init_seconds);
 
   // Solve.
-  int stage_iterations = 0;
-  const double chi2_before_stages = graph.Chi2();
-  const double robust_chi2_before_stages = graph.RobustChi2();
-  if (config.init == "auto" && init_used == "spanning_tree" &&
-      landmarks_from_observations && config.landmark_stages > 1) {
-    stage_iterations =
-        OptimizeInStages(config.landmark_stages, config.optimizer, &graph);
-  }
-  OptimizerSummary summary = Optimize(&graph, config.optimizer, &std::cout);
-  if (stage_iterations > 0) {
-    summary.iterations += stage_iterations;
-    summary.initial_chi2 = chi2_before_stages;
-    summary.initial_robust_chi2 = robust_chi2_before_stages;
-  }
+  // Landmark SLAM from dead reckoning: in stages (graph_solve.h).
+  const bool staged = config.init == "auto" && init_used == "spanning_tree" &&
+                      landmarks_from_observations;
+  const OptimizerSummary summary =
+      OptimizeGraph(staged ? config.landmark_stages : 1, config.optimizer,
+                    &graph, &std::cout);
   if (!summary.usable) {
     std::cerr << "slam optimize: the solver failed: " << summary.termination
               << "\n";
@@ -589,7 +320,8 @@ int RunOptimizeCommand(const std::vector<std::string>& args) {
 
   JsonObject evaluation;
   if (!FLAGS_gt.empty() &&
-      !EvaluateAgainstGroundTruth(graph, gt, &evaluation, &error)) {
+      !EvaluateGraphAgainstGroundTruth(graph, gt, FLAGS_gt, FLAGS_config,
+                                       FLAGS_plot, &evaluation, &error)) {
     std::cerr << "slam optimize: --gt: " << error << "\n";
     return 1;
   }

@@ -1,9 +1,13 @@
 #include "apps/optimize_config.h"
 
+#include <memory>
 #include <sstream>
+#include <utility>
+#include <vector>
 
 #include "apps/yaml_config.h"
 #include "core/initialization.h"
+#include "factors/landmark_factors.h"
 
 namespace slam {
 namespace {
@@ -210,6 +214,28 @@ std::string OptimizeConfigToYaml(const OptimizeConfig& config) {
       << "    prior: " << config.robust_prior.ToString() << "\n"
       << "    landmark: " << config.robust_landmark.ToString() << "\n";
   return out.str();
+}
+
+namespace {
+
+// Which robust kernel a factor gets.
+const RobustKernelSpec& KernelFor(const OptimizeConfig& config,
+                                  const Factor& factor) {
+  if (IsLandmarkFactor(factor.type)) return config.robust_landmark;
+  if (factor.keys.size() == 1) return config.robust_prior;
+  const int64_t gap = factor.keys[1].id - factor.keys[0].id;
+  return gap == 1 || gap == -1 ? config.robust_odometry
+                               : config.robust_loop_closure;
+}
+
+}  // namespace
+
+void ApplyRobustKernels(const OptimizeConfig& config, Graph* graph) {
+  std::vector<std::pair<FactorId, std::shared_ptr<ceres::LossFunction>>> losses;
+  for (const auto& [id, factor] : graph->factors()) {
+    losses.emplace_back(id, MakeLoss(KernelFor(config, factor)));
+  }
+  for (auto& [id, loss] : losses) graph->SetLoss(id, std::move(loss));
 }
 
 }  // namespace slam

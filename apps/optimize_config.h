@@ -43,6 +43,7 @@
 
 #include <string>
 
+#include "core/graph.h"
 #include "core/optimizer.h"
 #include "factors/robust_kernels.h"
 
@@ -56,7 +57,7 @@ struct OptimizeConfig {
   // an odometry tree, landmarks from their observations): solve the first
   // 1/2^(n-1), ..., 1/2 of the poses before the whole graph, re-placing the
   // later poses and landmarks after each (see OptimizeInStages in
-  // optimize_command.cc). 1: one batch solve.
+  // frontends/posegraph/graph_solve.h). 1: one batch solve.
   int landmark_stages = 4;
   RobustKernelSpec robust_odometry;
   RobustKernelSpec robust_loop_closure;
@@ -71,6 +72,11 @@ bool LoadOptimizeConfig(const std::string& path, OptimizeConfig* config,
 // Checks values that YAML parsing alone cannot (names, ranges).
 bool ValidateOptimizeConfig(const OptimizeConfig& config, std::string* error);
 std::string OptimizeConfigToYaml(const OptimizeConfig& config);
+
+// Sets each factor's robust kernel: robust_landmark on landmark factors,
+// robust_prior on unary factors, robust_odometry between consecutive ids,
+// robust_loop_closure between others.
+void ApplyRobustKernels(const OptimizeConfig& config, Graph* graph);
 
 }  // namespace slam
 

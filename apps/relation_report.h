@@ -1,13 +1,13 @@
-// The relation-based error (Kuemmerle et al. 2009, core/evaluation.h
-// ComputeRelationError) as `slam eval --relations` prints it and writes it
-// into the JSON report.
+// The relation-based error (Kuemmerle et al. 2009,
+// core/metrics/relation_error.h ComputeRelationError) as `slam eval
+// --relations` prints it and writes it into the JSON report.
 #ifndef SLAM_APPS_RELATION_REPORT_H_
 #define SLAM_APPS_RELATION_REPORT_H_
 
 #include <ostream>
 
 #include "apps/json.h"
-#include "core/evaluation.h"
+#include "core/metrics/relation_error.h"
 
 namespace slam {
 

@@ -36,7 +36,7 @@
 #include "datasets/trajectory_io.h"
 #include "frontends/laser/laser_map.h"
 #include "frontends/laser/laser_slam.h"
-#include "frontends/occupancy_grid.h"
+#include "frontends/laser/occupancy_grid.h"
 
 DEFINE_string(datasets, "",
               "run: datasets directory the log path is relative to (default "

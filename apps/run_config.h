@@ -21,7 +21,8 @@
 //     backend: {optimize_every, loop_optimize_interval,
 //               incremental_iterations, max_iterations}
 //     map: {enabled, resolution, l_occ, l_free, l_min, l_max,
-//           max_usable_range, clear_max_range}   (frontends/occupancy_grid.h)
+//           max_usable_range, clear_max_range}
+//                               (frontends/laser/occupancy_grid.h)
 //   icp: {max_correspondence_distance, max_iterations, huber_width,
 //         inlier_distance, sigma_min, covariance_scale}
 //   correlative: {resolution, coarse_factor, sigma, window_xy,
@@ -33,7 +34,7 @@
 
 #include "datasets/carmen_io.h"
 #include "frontends/laser/laser_slam.h"
-#include "frontends/occupancy_grid.h"
+#include "frontends/laser/occupancy_grid.h"
 
 namespace slam {
 

@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 
 #include "apps/yaml_config.h"
+#include "apps/yaml_writer.h"
 
 namespace slam {
 namespace {
@@ -152,81 +153,6 @@ bool ReadInertial(const YAML::Node& node, const std::string& where,
          ReadOptional(t, "roll_frequency", where, &p.roll_frequency, error) &&
          ReadOptional(t, "roll_phase", where, &p.roll_phase, error);
 }
-
-// Shortest text that reads back as exactly `value`, with a decimal point so
-// that it reads as a float.
-std::string FormatDouble(double value) {
-  if (std::isnan(value)) return ".nan";
-  if (std::isinf(value)) return value > 0 ? ".inf" : "-.inf";
-  char buffer[64];
-  const auto result = std::to_chars(buffer, buffer + sizeof(buffer), value);
-  std::string text(buffer, result.ptr);
-  if (text.find_first_of(".e") == std::string::npos) text += ".0";
-  return text;
-}
-
-// A YAML double-quoted string.
-std::string Quoted(const std::string& text) {
-  std::string out = "\"";
-  for (char c : text) {
-    if (c == '"' || c == '\\') out.push_back('\\');
-    out.push_back(c);
-  }
-  return out + "\"";
-}
-
-// Lines "key: value" with aligned trailing comments.
-class YamlWriter {
- public:
-  void Section(int indent, const std::string& name,
-               const std::string& comment = "") {
-    Line(indent, name + ":", comment);
-  }
-  template <typename T>
-  void Value(int indent, const std::string& key, const T& value,
-             const std::string& comment = "") {
-    std::ostringstream text;
-    text << key << ": " << value;
-    Line(indent, text.str(), comment);
-  }
-  void Value(int indent, const std::string& key, double value,
-             const std::string& comment = "") {
-    Line(indent, key + ": " + FormatDouble(value), comment);
-  }
-  void Value(int indent, const std::string& key,
-             const std::vector<double>& values,
-             const std::string& comment = "") {
-    std::string text;
-    for (double v : values)
-      text += (text.empty() ? "" : ", ") + FormatDouble(v);
-    Line(indent, key + ": [" + text + "]", comment);
-  }
-  void Value(int indent, const std::string& key, bool value,
-             const std::string& comment = "") {
-    Line(indent, key + ": " + (value ? "true" : "false"), comment);
-  }
-  void Value(int indent, const std::string& key, const Eigen::Vector3d& value,
-             const std::string& comment = "") {
-    Line(indent,
-         key + ": [" + FormatDouble(value.x()) + ", " +
-             FormatDouble(value.y()) + ", " + FormatDouble(value.z()) + "]",
-         comment);
-  }
-  std::string str() const { return out_.str(); }
-
- private:
-  void Line(int indent, const std::string& text, const std::string& comment) {
-    std::string line = std::string(indent, ' ') + text;
-    if (!comment.empty()) {
-      constexpr size_t kCommentColumn = 34;
-      line.resize(std::max(line.size() + 1, kCommentColumn), ' ');
-      line += "# " + comment;
-    }
-    out_ << line << "\n";
-  }
-
-  std::ostringstream out_;
-};
 
 }  // namespace
 

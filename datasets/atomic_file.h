@@ -37,6 +37,11 @@ namespace slam {
 bool WriteFileAtomically(const std::string& path, std::string_view contents,
                          std::string* error);
 
+// Whether `path` can be an output file, checked before any work: its folder
+// exists and it is not a directory. False with "PATH: the directory DIR does
+// not exist" or "PATH: is a directory".
+bool CheckOutputPath(const std::string& path, std::string* error);
+
 // The outputs of one command, published together by Commit. Stages nest
 // (the innermost one collects); one thread's stage does not see the writes
 // of another thread.

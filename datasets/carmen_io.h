@@ -57,31 +57,12 @@
 
 #include "core/conventions.h"
 #include "core/lie.h"
+#include "core/sensors/laser_data.h"
 
 namespace slam {
 
 // Called now and then while reading with the fraction done, in [0, 1].
 using ProgressCallback = std::function<void(double fraction)>;
-
-struct LaserScan {
-  TimeNs stamp = 0;    // ipc_timestamp.
-  Pose2 odom;          // Robot odometry pose at the scan.
-  Pose2 laser_offset;  // Robot -> laser.
-  Pose2 logged_pose;   // The other pose of the line (see above).
-  double angle_min = 0.0;
-  double angle_increment = 0.0;
-  double max_range = 0.0;
-  std::vector<float> ranges;
-  std::string tag;  // "FLASER", "RLASER" or "ROBOTLASER1".
-  int line = 0;     // 1-based line in the (decompressed) log.
-};
-
-struct OdometryReading {
-  TimeNs stamp = 0;  // ipc_timestamp.
-  Pose2 pose;
-  double tv = 0.0;  // Translational velocity (m/s).
-  double rv = 0.0;  // Rotational velocity (rad/s).
-};
 
 struct CarmenLog {
   // In file order, also where stamps go backwards (real logs have that:

@@ -67,40 +67,9 @@
 #include "core/conventions.h"
 #include "core/imu_preintegration.h"
 #include "core/lie.h"
+#include "core/sensors/inertial_data.h"
 
 namespace slam {
-
-struct PositionFix {
-  TimeNs stamp = 0;
-  Eigen::Vector3d position = Eigen::Vector3d::Zero();  // world frame
-  // GTSAM CSV only: the ground-truth rotation written on the GPS row.
-  bool has_orientation = false;
-  Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
-};
-
-struct InertialGroundTruth {
-  TimeNs stamp = 0;
-  Pose3 pose;                                          // body to world
-  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();  // world
-  ImuBias bias = ImuBias::Zero();                      // (bg, ba)
-};
-
-struct InertialData {
-  std::vector<ImuSample> imu;
-  std::vector<PositionFix> positions;
-  std::vector<InertialGroundTruth> ground_truth;  // May be empty.
-  // How to integrate `imu` (IntegrateImuSamples): kHold for the GTSAM CSV
-  // (rows held over dt), kLinear for EuRoC folders and the simulator.
-  ImuInterpolation interpolation = ImuInterpolation::kLinear;
-  // GTSAM CSV: the "i" row (velocity included).
-  bool has_initial_state = false;
-  NavState initial_state;
-  Eigen::Vector3d gravity = DefaultGravity();
-  // Where the IMU readings came from (EuRoC reader): the file and the line
-  // of each reading, for messages about them. Empty otherwise.
-  std::string imu_path;
-  std::vector<int64_t> imu_lines;
-};
 
 // Plausibility bounds of IMU readings (consumer and tactical IMUs saturate
 // at 16-200 g and 2000-5000 deg/s).

@@ -19,7 +19,7 @@
 #include <string>
 #include <vector>
 
-#include "core/evaluation.h"
+#include "core/metrics/relation_error.h"
 
 namespace slam {
 

@@ -51,7 +51,7 @@
 
 #include <Eigen/Core>
 
-#include "core/evaluation.h"
+#include "core/metrics/matrix_pose.h"
 #include "core/graph.h"
 #include "core/trajectory.h"
 

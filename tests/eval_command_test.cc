@@ -13,7 +13,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "apps/plot/plot.h"
-#include "core/evaluation.h"
+#include "core/metrics/evaluation.h"
 #include "datasets/trajectory_io.h"
 #include "gtest/gtest.h"
 #include "tests/test_util.h"

@@ -1,11 +1,11 @@
-// Tests of core/evaluation: hand-computed cases, and real data (KITTI 00 ORB,
+// Tests of core/metrics/: hand-computed cases, and real data (KITTI 00 ORB,
 // TUM fr1/xyz rgbdslam) cross-checked against a second, independent
 // implementation written here with different code: 4x4 matrices instead of
 // quaternion poses, Horn's closed-form quaternion alignment instead of
 // Umeyama's SVD, brute-force evo association on double seconds, literal
 // loops of evo's filters and of the KITTI devkit in double precision, and
 // its own file parsing.
-#include "core/evaluation.h"
+#include "core/metrics/evaluation.h"
 
 #include <algorithm>
 #include <chrono>

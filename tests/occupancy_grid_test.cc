@@ -3,7 +3,7 @@
 // outside unknown, the no-return rule through a door), the PGM + YAML output
 // read back, the map PNG of the plot module, and costs that follow the
 // observed cells (tiled storage, merged pictures) rather than the extent.
-#include "frontends/occupancy_grid.h"
+#include "frontends/laser/occupancy_grid.h"
 
 #include <yaml-cpp/yaml.h>
 

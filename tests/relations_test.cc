@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "core/evaluation.h"
+#include "core/metrics/relation_error.h"
 #include "datasets/relations_io.h"
 #include "datasets/trajectory_io.h"
 #include "gtest/gtest.h"

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "frontends/occupancy_grid.h"
+#include "frontends/laser/occupancy_grid.h"
 
 namespace slam {
 

@@ -40,7 +40,7 @@
 #include <vector>
 
 #include "core/conventions.h"
-#include "datasets/imu_io.h"
+#include "core/sensors/inertial_data.h"
 #include "frontends/inertial/inertial_estimator.h"
 
 namespace slam {

@@ -28,13 +28,13 @@
 
 #include "core/conventions.h"
 #include "core/imu_preintegration.h"
+#include "core/sensors/inertial_data.h"
 #include "core/sliding_window.h"
 #include "core/trajectory.h"
-#include "datasets/imu_io.h"
 
 namespace slam {
 
-// Input: InertialData (datasets/imu_io.h): IMU readings, position fixes and
+// Input: InertialData (core/sensors/): IMU readings, position fixes and
 // the initial state when the file has one (GTSAM's "i" row; the simulator's
 // true state). Without it: the initializer (inertial_initializer.h; still
 // start, in-motion alignment from the fixes) gives the first state and its

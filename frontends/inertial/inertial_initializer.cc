@@ -370,4 +370,35 @@ std::vector<std::string> InertialDataWarnings(const InertialData& data) {
   return out;
 }
 
+bool StartAtGroundTruth(InertialData* data, ImuBias* bias, std::string* error) {
+  if (data->ground_truth.empty()) {
+    *error = "initial_state ground_truth: the input has no ground truth";
+    return false;
+  }
+  const InertialGroundTruth& first = data->ground_truth.front();
+  size_t s = 0;
+  while (s < data->imu.size() && data->imu[s].stamp < first.stamp) ++s;
+  if (s == data->imu.size()) {
+    *error =
+        "initial_state ground_truth: no IMU reading after the first "
+        "ground-truth state";
+    return false;
+  }
+  data->imu.erase(data->imu.begin(), data->imu.begin() + s);
+  if (data->imu_lines.size() >= s) {
+    data->imu_lines.erase(data->imu_lines.begin(), data->imu_lines.begin() + s);
+  }
+  // The ground-truth state at (or just before) the first kept reading.
+  const InertialGroundTruth* start = &first;
+  for (const InertialGroundTruth& g : data->ground_truth) {
+    if (g.stamp > data->imu.front().stamp) break;
+    start = &g;
+  }
+  data->has_initial_state = true;
+  data->initial_state.pose = start->pose;
+  data->initial_state.velocity = start->velocity;
+  *bias = start->bias;
+  return true;
+}
+
 }  // namespace slam

@@ -39,7 +39,7 @@
 #include <vector>
 
 #include "core/conventions.h"
-#include "datasets/imu_io.h"
+#include "core/sensors/inertial_data.h"
 #include "frontends/inertial/inertial_estimator.h"
 
 namespace slam {
@@ -87,6 +87,13 @@ bool InitializeInertial(const InertialData& data,
 // line, see datasets/imu_io.h). No fixes at all is not listed here: the
 // command refuses that unless dead reckoning is asked for.
 std::vector<std::string> InertialDataWarnings(const InertialData& data);
+
+// The start from the ground truth instead (initial_state: ground_truth):
+// drops the IMU readings before the first ground-truth state and starts
+// there, bias included (*bias: the prior mean of the first keyframe's bias).
+// False with a message when there is no ground truth or no IMU reading
+// after its first state.
+bool StartAtGroundTruth(InertialData* data, ImuBias* bias, std::string* error);
 
 }  // namespace slam
 

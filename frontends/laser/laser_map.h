@@ -1,13 +1,13 @@
-// The occupancy-grid map of a laser SLAM run (frontends/occupancy_grid.h)
-// and a measure of its sharpness.
+// The occupancy-grid map of a laser SLAM run (occupancy_grid.h) and a measure
+// of its sharpness.
 #ifndef SLAM_FRONTENDS_LASER_LASER_MAP_H_
 #define SLAM_FRONTENDS_LASER_LASER_MAP_H_
 
 #include <vector>
 
-#include "datasets/carmen_io.h"
+#include "core/sensors/laser_data.h"
 #include "frontends/laser/laser_slam.h"
-#include "frontends/occupancy_grid.h"
+#include "frontends/laser/occupancy_grid.h"
 
 namespace slam {
 

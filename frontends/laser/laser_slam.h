@@ -75,8 +75,8 @@
 
 #include "core/graph.h"
 #include "core/optimizer.h"
+#include "core/sensors/laser_data.h"
 #include "core/trajectory.h"
-#include "datasets/carmen_io.h"
 #include "factors/robust_kernels.h"
 #include "frontends/laser/odometry_model.h"
 #include "frontends/laser/scan_context.h"

@@ -1,4 +1,4 @@
-#include "frontends/occupancy_grid.h"
+#include "frontends/laser/occupancy_grid.h"
 
 #include <algorithm>
 #include <cctype>

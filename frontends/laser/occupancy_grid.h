@@ -25,8 +25,8 @@
 // Cell states use the map_server thresholds on p = 1 - 1 / (1 + exp(l)):
 // occupied if p > occupied_thresh, free if p < free_thresh, else unknown
 // (cells never observed are unknown).
-#ifndef SLAM_FRONTENDS_OCCUPANCY_GRID_H_
-#define SLAM_FRONTENDS_OCCUPANCY_GRID_H_
+#ifndef SLAM_FRONTENDS_LASER_OCCUPANCY_GRID_H_
+#define SLAM_FRONTENDS_LASER_OCCUPANCY_GRID_H_
 
 #include <array>
 #include <cstdint>
@@ -35,7 +35,7 @@
 #include <vector>
 
 #include "core/lie.h"
-#include "datasets/carmen_io.h"
+#include "core/sensors/laser_data.h"
 
 namespace slam {
 
@@ -207,4 +207,4 @@ bool ReadPgm(const std::string& path, MapImage* image, std::string* error);
 
 }  // namespace slam
 
-#endif  // SLAM_FRONTENDS_OCCUPANCY_GRID_H_
+#endif  // SLAM_FRONTENDS_LASER_OCCUPANCY_GRID_H_
