@@ -80,10 +80,8 @@ int RunStereo(const StereoRunConfig& config) {
                                .c_str());
 
   // Ground truth: read (and checked) before the work.
-  std::string gt_path = FLAGS_gt.empty() ? config.ground_truth : FLAGS_gt;
-  if (FLAGS_gt.empty() && !gt_path.empty())
-    gt_path = ResolveDatasetPath(gt_path);
-  if (gt_path.empty()) gt_path = sequence.ground_truth_path;
+  const std::string gt_path =
+      GroundTruthPathOf(config.ground_truth, sequence.ground_truth_path);
   if (!gt_path.empty()) {
     TrajectoryData gt;
     TrajectoryReadOptions read;
@@ -113,39 +111,15 @@ int RunStereo(const StereoRunConfig& config) {
     std::cerr << "run: " << error << "\n";
     return 1;
   }
-  std::error_code ec;
-  fs::create_directories(config.output_dir, ec);
-  if (ec) {
-    std::cerr << "run: " << config.output_dir
-              << ": cannot create directory: " << ec.message() << "\n";
-    return 1;
-  }
-
   VisualSlamConfig slam_config;
   slam_config.odometry = config.odometry;
   slam_config.loop_closure = config.loop_closure;
   slam_config.loops = config.loops;
-  if (!config.loops.vocabulary.empty()) {
-    slam_config.loops.vocabulary = ResolveDatasetPath(config.loops.vocabulary);
-  }
-  VisualSlam slam(slam_config, &source);
-  VisualSlamResult result;
-  ProgressBar bar("processing");
-  VisualSlamCallbacks callbacks;
-  callbacks.progress = [&bar](double fraction) { bar.Update(fraction); };
-  callbacks.log = [](const std::string& line) {
-    std::printf("run: %s\n", line.c_str());
-  };
-  if (!slam.Run(callbacks, &result, &error)) {
-    std::cerr << "\nrun: " << error << "\n";
-    return 1;
-  }
-
   info.pipeline = "stereo";
   info.sequence = dir;
   info.output_dir = config.output_dir;
   info.loop_closure_enabled = config.loop_closure.enabled;
-  return WriteVisualRun(info, slam, result);
+  return RunVisualSlamAndWrite(slam_config, source, info);
 }
 
 }  // namespace
@@ -159,30 +133,14 @@ int RunRunOrStereoCommand(const std::vector<std::string>& args) {
     return 1;
   }
   if (pipeline == "laser") return RunRunCommand(args);
+  if (pipeline == "rgbd") return RunRgbdCommand(args);
   if (pipeline != "stereo") {
     std::cerr << FLAGS_config << ": run.pipeline '" << pipeline
-              << "' is not a pipeline (laser, stereo)\n";
+              << "' is not a pipeline (laser, stereo, rgbd)\n";
     return 2;
   }
-  if (!args.empty()) {
-    std::cerr << "run: unexpected argument '" << args[0] << "'\n";
-    return 2;
-  }
-  StereoRunConfig config;
-  if (!LoadStereoRunConfig(FLAGS_config, &config, &error)) {
-    std::cerr << error << "\n";
-    return 1;
-  }
-  if (!FLAGS_output_dir.empty()) config.output_dir = FLAGS_output_dir;
-  if (FLAGS_dump_config) {
-    std::cout << StereoRunConfigToYaml(config);
-    return 0;
-  }
-  if (config.sequence.empty()) {
-    std::cerr << "run: no sequence folder named (run.sequence in --config)\n";
-    return 2;
-  }
-  return RunStereo(config);
+  return RunVisualCommand<StereoRunConfig>(args, LoadStereoRunConfig,
+                                           StereoRunConfigToYaml, RunStereo);
 }
 
 }  // namespace slam

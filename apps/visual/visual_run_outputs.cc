@@ -12,6 +12,8 @@
 #include "apps/eval_report.h"
 #include "apps/json.h"
 #include "apps/map_plot.h"
+#include "apps/progress_bar.h"
+#include "apps/run_config.h"
 #include "datasets/atomic_file.h"
 #include "datasets/g2o_io.h"
 #include "datasets/text_util.h"
@@ -202,6 +204,26 @@ int WriteVisualRun(const VisualRunInfo& info, const VisualSlam& slam,
       evaluation.Add("end_point_error_m", end_error)
           .Add("end_point_error_percent", percent);
     }
+    if (info.rpe_per_second) {
+      EvalSettings per_second = info.eval;
+      per_second.rpe.delta = 1.0;
+      per_second.rpe.unit = DeltaUnit::kSeconds;
+      per_second.kitti = false;
+      EvalResult second;
+      if (!EvaluateTrajectories(info.ground_truth, trajectory, per_second,
+                                &second, &error)) {
+        return fail("RPE per second: " + error);
+      }
+      std::printf(
+          "run: RPE per second (%s): translation rmse %.4f m, rotation rmse "
+          "%.3f deg\n",
+          DescribeRpeOptions(per_second.rpe).c_str(),
+          second.rpe_translation_stats.rmse, second.rpe_rotation_stats.rmse);
+      JsonObject rpe;
+      rpe.Add("translation", StatisticsJson(second.rpe_translation_stats, "m"))
+          .Add("rotation", StatisticsJson(second.rpe_rotation_stats, "deg"));
+      evaluation.Add("rpe_per_second", rpe);
+    }
     report.Add("evaluation", evaluation);
   }
   if (!FLAGS_report.empty()) {
@@ -216,6 +238,42 @@ int WriteVisualRun(const VisualRunInfo& info, const VisualSlam& slam,
                                             info.start)
                   .count());
   return 0;
+}
+
+std::string GroundTruthPathOf(const std::string& configured,
+                              const std::string& found) {
+  if (!FLAGS_gt.empty()) return FLAGS_gt;
+  if (!configured.empty()) return ResolveDatasetPath(configured);
+  return found;
+}
+
+int RunVisualSlamAndWrite(VisualSlamConfig config,
+                          const VisualFrameSource& source,
+                          const VisualRunInfo& info) {
+  std::error_code ec;
+  fs::create_directories(info.output_dir, ec);
+  if (ec) {
+    std::cerr << "run: " << info.output_dir
+              << ": cannot create directory: " << ec.message() << "\n";
+    return 1;
+  }
+  if (!config.loops.vocabulary.empty()) {
+    config.loops.vocabulary = ResolveDatasetPath(config.loops.vocabulary);
+  }
+  VisualSlam slam(config, &source);
+  VisualSlamResult result;
+  ProgressBar bar("processing");
+  VisualSlamCallbacks callbacks;
+  callbacks.progress = [&bar](double fraction) { bar.Update(fraction); };
+  callbacks.log = [](const std::string& line) {
+    std::printf("run: %s\n", line.c_str());
+  };
+  std::string error;
+  if (!slam.Run(callbacks, &result, &error)) {
+    std::cerr << "\nrun: " << error << "\n";
+    return 1;
+  }
+  return WriteVisualRun(info, slam, result);
 }
 
 }  // namespace slam

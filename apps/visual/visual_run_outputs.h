@@ -15,12 +15,19 @@
 #ifndef SLAM_APPS_VISUAL_VISUAL_RUN_OUTPUTS_H_
 #define SLAM_APPS_VISUAL_VISUAL_RUN_OUTPUTS_H_
 
-#include <chrono>
-#include <string>
+#include <gflags/gflags.h>
 
+#include <chrono>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "apps/common_flags.h"
 #include "core/evaluation.h"
 #include "core/trajectory.h"
 #include "frontends/visual/visual_slam.h"
+
+DECLARE_string(output_dir);
 
 namespace slam {
 
@@ -36,6 +43,9 @@ struct VisualRunInfo {
   bool loop_closure_enabled = false;
   Trajectory ground_truth;  // Empty: no evaluation.
   EvalSettings eval;
+  // Also the RPE over one second (TUM's per-second drift), printed after
+  // the table and reported as evaluation.rpe_per_second.
+  bool rpe_per_second = false;
   std::chrono::steady_clock::time_point start;  // Of the command.
 };
 
@@ -43,6 +53,50 @@ struct VisualRunInfo {
 // --report JSON. 0, or 1 after printing "run: problem" on stderr.
 int WriteVisualRun(const VisualRunInfo& info, const VisualSlam& slam,
                    const VisualSlamResult& result);
+
+// The work of a visual run once its inputs are read and checked: creates
+// info.output_dir, runs the pipeline over the source (progress bar on
+// stderr, its lines on stdout; loops.vocabulary resolved against
+// --datasets) and writes everything (WriteVisualRun). 0, or 1 after a
+// message.
+int RunVisualSlamAndWrite(VisualSlamConfig config,
+                          const VisualFrameSource& source,
+                          const VisualRunInfo& info);
+
+// The ground truth to evaluate against: --gt, else `configured` (relative
+// to --datasets), else the folder's own file (`found`, may be "").
+std::string GroundTruthPathOf(const std::string& configured,
+                              const std::string& found);
+
+// The entry of a visual pipeline's `slam run`: loads the --config into a
+// Config (load), applies --output_dir, prints it with --dump_config
+// (to_yaml), checks that run.sequence is set, then calls run.
+template <typename Config>
+int RunVisualCommand(const std::vector<std::string>& args,
+                     bool (*load)(const std::string&, Config*, std::string*),
+                     std::string (*to_yaml)(const Config&),
+                     int (*run)(const Config&)) {
+  if (!args.empty()) {
+    std::cerr << "run: unexpected argument '" << args[0] << "'\n";
+    return 2;
+  }
+  Config config;
+  std::string error;
+  if (!load(FLAGS_config, &config, &error)) {
+    std::cerr << error << "\n";
+    return 1;
+  }
+  if (!FLAGS_output_dir.empty()) config.output_dir = FLAGS_output_dir;
+  if (FLAGS_dump_config) {
+    std::cout << to_yaml(config);
+    return 0;
+  }
+  if (config.sequence.empty()) {
+    std::cerr << "run: no sequence folder named (run.sequence in --config)\n";
+    return 2;
+  }
+  return run(config);
+}
 
 }  // namespace slam
 
