@@ -23,11 +23,11 @@ import json
 import math
 import os
 import statistics
-import subprocess
 import sys
 import tempfile
 
 import run_benchmarks
+from benchmark_stereo import run  # A command, exiting with its output on failure.
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
@@ -50,15 +50,6 @@ PEERS = [
      "rpe_t": 0.0084, "rpe_r": 0.50, "median_ms": 44},
 ]
 TARGET = {"method": "target", "ate": 0.020, "rpe_r": 0.40, "median_ms": 30}
-
-
-def run(cmd):
-    proc = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                          text=True)
-    if proc.returncode != 0:
-        sys.exit(" ".join(cmd) + " failed:\n" + proc.stdout[-1500:] +
-                 proc.stderr[-1500:])
-    return proc.stdout
 
 
 def read_tum(path):

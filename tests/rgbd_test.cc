@@ -17,6 +17,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "apps/visual/rgbd_run_config.h"
 #include "datasets/tum_rgbd_io.h"
 #include "frontends/rgbd/rgbd_features.h"
 #include "frontends/stereo/stereo_simulator.h"
@@ -298,6 +299,30 @@ TEST(RgbdSlamTest, SyntheticRgbdWorldRecoversThePath) {
   // same world cannot be tracked, so the test above measures the depth.
   const double no_depth = RunSyntheticRgbd(0.0015, false);
   EXPECT_GT(no_depth, 0.1);
+}
+
+TEST(RgbdRunConfigTest, RoundTripsThroughItsYamlDumpAndRejectsUnknownKeys) {
+  RgbdRunConfig config;
+  std::string error;
+  ASSERT_TRUE(
+      LoadRgbdRunConfig(testing::ConfigPath("tum_rgbd.yaml"), &config, &error))
+      << error;
+  EXPECT_EQ(config.features.max_features, 1000);
+  EXPECT_EQ(config.camera, "auto");
+  const std::string dir = TempDir();
+  const std::string dump = RgbdRunConfigToYaml(config);
+  WriteText(dir + "/dump.yaml", dump);
+  RgbdRunConfig again;
+  ASSERT_TRUE(LoadRgbdRunConfig(dir + "/dump.yaml", &again, &error)) << error;
+  EXPECT_EQ(RgbdRunConfigToYaml(again), dump);
+  WriteText(dir + "/bad.yaml",
+            "run:\n  pipeline: rgbd\n  depth:\n    baseline: 0.1\n");
+  EXPECT_FALSE(LoadRgbdRunConfig(dir + "/bad.yaml", &again, &error));
+  EXPECT_TRUE(Contains(error, "bad.yaml:4")) << error;
+  EXPECT_TRUE(Contains(error, "baseline")) << error;
+  WriteText(dir + "/bad.yaml", "run:\n  pipeline: rgbd\n  camera: kinect\n");
+  EXPECT_FALSE(LoadRgbdRunConfig(dir + "/bad.yaml", &again, &error));
+  EXPECT_TRUE(Contains(error, "camera must be freiburg1")) << error;
 }
 
 // slam run on a TUM folder written here (640 x 480: the Freiburg cameras'
