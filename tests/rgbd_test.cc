@@ -19,6 +19,7 @@
 
 #include "apps/visual/rgbd_run_config.h"
 #include "datasets/tum_rgbd_io.h"
+#include "frontends/rgbd/rgbd_camera.h"
 #include "frontends/rgbd/rgbd_features.h"
 #include "frontends/stereo/stereo_simulator.h"
 #include "frontends/visual/visual_slam.h"

@@ -29,6 +29,7 @@
 #include <string>
 
 #include "datasets/tum_rgbd_io.h"
+#include "frontends/rgbd/rgbd_camera.h"
 #include "frontends/rgbd/rgbd_features.h"
 #include "frontends/stereo/stereo_features.h"
 #include "frontends/visual/visual_slam.h"

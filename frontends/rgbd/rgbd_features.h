@@ -32,8 +32,8 @@
 
 #include <opencv2/core.hpp>
 
-#include "datasets/tum_rgbd_io.h"
 #include "factors/camera_models.h"
+#include "frontends/rgbd/rgbd_camera.h"
 #include "frontends/stereo/stereo_features.h"
 #include "frontends/stereo/stereo_frame.h"
 
