@@ -173,7 +173,7 @@ int RunRunCommand(const std::vector<std::string>& args) {
   }
   if (config.pipeline != "laser") {
     std::cerr << FLAGS_config << ": run.pipeline '" << config.pipeline
-              << "' is not the laser pipeline (laser, stereo)\n";
+              << "' is not the laser pipeline (laser, stereo, rgbd)\n";
     return 2;
   }
   if (config.log.empty()) {

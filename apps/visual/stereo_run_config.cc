@@ -3,6 +3,7 @@
 #include <sstream>
 
 #include "apps/config_schema.h"
+#include "apps/visual/visual_slam_config.h"
 #include "apps/yaml_config.h"
 
 namespace slam {
@@ -12,62 +13,28 @@ using namespace config_schema;  // NOLINT: the schema vocabulary.
 
 Section Schema(StereoRunConfig* c) {
   StereoFeatureConfig& f = c->features;
-  StereoOdometryConfig& o = c->odometry;
-  return {
+  Section run{
       "run",
       {S("pipeline", &c->pipeline), S("sequence", &c->sequence),
        S("ground_truth", &c->ground_truth), S("output_dir", &c->output_dir),
        D("frame_period", &c->frame_period), I("max_frames", &c->max_frames),
        S("playback", &c->playback)},
-      {{"features",
-        {I("max_features", &f.max_features), D("scale_factor", &f.scale_factor),
-         I("levels", &f.levels), I("fast_threshold", &f.fast_threshold),
-         I("cell_size", &f.cell_size), I("max_per_cell", &f.max_per_cell),
-         D("row_tolerance", &f.row_tolerance),
-         D("min_disparity", &f.min_disparity),
-         D("max_disparity_fraction", &f.max_disparity_fraction),
-         I("max_descriptor_distance", &f.max_descriptor_distance),
-         D("ratio", &f.ratio), I("patch_radius", &f.patch_radius),
-         I("search_radius", &f.search_radius),
-         D("max_depth_baselines", &f.max_depth_baselines)},
-        {}},
-       {"tracking",
-        {D("pixel_sigma", &o.pixel_sigma), D("chi2_stereo", &o.chi2_stereo),
-         D("chi2_mono", &o.chi2_mono),
-         I("local_map_keyframes", &o.local_map_keyframes),
-         D("search_radius", &o.search_radius),
-         I("max_descriptor_distance", &o.max_descriptor_distance),
-         D("match_ratio", &o.match_ratio), I("pose_rounds", &o.pose_rounds),
-         I("pose_iterations", &o.pose_iterations),
-         I("min_inliers", &o.min_inliers),
-         D("pnp_reprojection_error", &o.pnp_reprojection_error),
-         I("pnp_iterations", &o.pnp_iterations), D("pnp_ratio", &o.pnp_ratio)},
-        {}},
-       {"keyframes",
-        {D("tracked_ratio", &o.keyframe_tracked_ratio),
-         I("min_inliers", &o.keyframe_min_inliers),
-         D("depth_fraction", &o.keyframe_depth_fraction),
-         D("rotation", &o.keyframe_rotation),
-         I("max_frames", &o.keyframe_max_frames),
-         I("min_initial_points", &o.min_initial_points),
-         I("min_point_observations", &o.min_point_observations),
-         I("cull_after_keyframes", &o.cull_after_keyframes)},
-        {}},
-       {"bundle_adjustment",
-        {I("window_keyframes", &o.window_keyframes),
-         I("local_iterations", &o.local_ba_iterations),
-         I("final_iterations", &o.final_ba_iterations)},
-        {}},
-       {"loop_closure",
-        {B("enabled", &c->loop_closure.enabled),
-         D("drift_translation", &c->loop_closure.drift_translation),
-         D("min_sigma_translation", &c->loop_closure.min_sigma_translation),
-         D("drift_rotation", &c->loop_closure.drift_rotation),
-         D("min_sigma_rotation", &c->loop_closure.min_sigma_rotation),
-         K("kernel", &c->loop_closure.kernel),
-         D("reject_chi2", &c->loop_closure.reject_chi2),
-         I("max_iterations", &c->loop_closure.max_iterations)},
-        {}}}};
+      {{"features", OrbFeatureFields(&f), {}}}};
+  std::vector<Field>& features = run.children[0].fields;
+  for (const Field& field :
+       {D("row_tolerance", &f.row_tolerance),
+        D("min_disparity", &f.min_disparity),
+        D("max_disparity_fraction", &f.max_disparity_fraction),
+        I("max_descriptor_distance", &f.max_descriptor_distance),
+        D("ratio", &f.ratio), I("patch_radius", &f.patch_radius),
+        I("search_radius", &f.search_radius),
+        D("max_depth_baselines", &f.max_depth_baselines)}) {
+    features.push_back(field);
+  }
+  for (Section& s : VisualSlamSections(&c->odometry, &c->loop_closure)) {
+    run.children.push_back(std::move(s));
+  }
+  return run;
 }
 
 }  // namespace
@@ -92,12 +59,10 @@ bool LoadStereoRunConfig(const std::string& path, StereoRunConfig* config,
   const YAML::Node node = root["run"];
   if (!node) return true;
   if (!LoadSection(node, Schema(config), path, error)) return false;
-  if (!LoadLoopsConfig(path, &config->loops, error)) return false;
-  // Stereo keyframes are verified by PnP on their stereo points (the
-  // loops.verification setting is for image sequences without depth).
-  config->loops.detector.verification = bow::Verification::kStereoPnp;
-  // The pyramid scale of the features sets the noise model's scale.
-  config->odometry.scale_factor = config->features.scale_factor;
+  if (!LoadVisualSlamExtras(path, config->features, &config->odometry,
+                            &config->loops, error)) {
+    return false;
+  }
   if (!ValidateStereoRunConfig(*config, error)) {
     *error = path + ": run." + *error;
     return false;
@@ -128,13 +93,8 @@ bool ValidateStereoRunConfig(const StereoRunConfig& config,
     *error = "features: " + problem;
     return false;
   }
-  if (!ValidateStereoOdometryConfig(config.odometry, &problem) ||
-      !ValidateStereoLoopClosingConfig(config.loop_closure, &problem) ||
-      !ValidateLoopsConfig(config.loops, &problem)) {
-    *error = problem;
-    return false;
-  }
-  return true;
+  return ValidateVisualSlamSettings(config.odometry, config.loop_closure,
+                                    config.loops, error);
 }
 
 std::string StereoRunConfigToYaml(const StereoRunConfig& config) {

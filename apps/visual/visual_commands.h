@@ -9,8 +9,11 @@
 namespace slam {
 
 // slam run: the pipeline named by the config's `run.pipeline` (laser, the
-// default, runs RunRunCommand; stereo runs the stereo visual odometry).
+// default, runs RunRunCommand; stereo runs the visual SLAM pipeline on a
+// stereo sequence, rgbd RunRgbdCommand).
 int RunRunOrStereoCommand(const std::vector<std::string>& args);
+// slam run with run.pipeline: rgbd (visual SLAM on a TUM RGB-D folder).
+int RunRgbdCommand(const std::vector<std::string>& args);
 
 // slam vocabulary: trains a bag-of-words vocabulary of ORB descriptors on
 // image folders (or converts a DBoW2 YAML one) into the binary format.

@@ -1,0 +1,484 @@
+// RGB-D visual SLAM (issue 23): the TUM RGB-D folder reader (association as
+// TUM's associate.py, its edge cases and errors), the RGB-D measurement
+// (undistortion, virtual right coordinate), the visual SLAM pipeline on a
+// synthetic RGB-D world with depth noise growing with the square of the
+// depth, `slam run` with run.pipeline: rgbd on handmade folders (bad input:
+// message, exit 1, no output) and on the shared fr1/rpy excerpt (bounds).
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <functional>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "apps/visual/rgbd_run_config.h"
+#include "datasets/tum_rgbd_io.h"
+#include "frontends/rgbd/rgbd_camera.h"
+#include "frontends/rgbd/rgbd_features.h"
+#include "frontends/stereo/stereo_simulator.h"
+#include "frontends/visual/visual_slam.h"
+#include "gtest/gtest.h"
+#include "test_util.h"
+
+namespace slam {
+namespace {
+
+using testing::Contains;
+using testing::DatasetPath;
+using testing::Exists;
+using testing::ReadText;
+using testing::RunSlam;
+using testing::TempDir;
+using testing::WriteText;
+namespace fs = std::filesystem;
+
+TEST(TumRgbdAssociationTest, NearestFirstEachStampOnce) {
+  // 0.010 is nearer to 0.006 than 0.0 is: it takes the depth image, and
+  // 0.0 stays unmatched although it is within the limit too.
+  auto m = AssociateStamps({0.0, 0.010, 0.033}, {0.006, 0.034}, 0.02);
+  ASSERT_EQ(m.size(), 2u);
+  EXPECT_EQ(m[0], std::make_pair(size_t{1}, size_t{0}));
+  EXPECT_EQ(m[1], std::make_pair(size_t{2}, size_t{1}));
+  // Nothing within the limit (strictly closer than it, as associate.py).
+  EXPECT_TRUE(AssociateStamps({0.0, 1.0}, {0.02, 0.5}, 0.02).empty());
+  // Duplicate depth stamps: one is taken, the other left.
+  m = AssociateStamps({5.0}, {5.001, 5.001}, 0.02);
+  ASSERT_EQ(m.size(), 1u);
+  EXPECT_EQ(m[0].first, 0u);
+}
+
+// A TUM folder: colour images (textured) and 16-bit depth images at the
+// stamps given; list lines written as given.
+void WriteTumFolder(const std::string& dir, const std::vector<double>& rgb,
+                    const std::vector<double>& depth, int width = 64,
+                    int height = 48) {
+  fs::create_directories(dir + "/rgb");
+  fs::create_directories(dir + "/depth");
+  std::string rgb_txt = "# color images\n# timestamp filename\n";
+  std::string depth_txt = "# depth maps\n# timestamp filename\n";
+  cv::Mat colour(height, width, CV_8UC3);
+  cv::randu(colour, 0, 255);
+  const cv::Mat d(height, width, CV_16U, cv::Scalar(5000));
+  char stamp[32];
+  for (double s : rgb) {
+    std::snprintf(stamp, sizeof(stamp), "%.6f", s);
+    const std::string name = "rgb/" + std::string(stamp) + ".png";
+    cv::imwrite(dir + "/" + name, colour);
+    rgb_txt += std::string(stamp) + " " + name + "\n";
+  }
+  for (double s : depth) {
+    std::snprintf(stamp, sizeof(stamp), "%.6f", s);
+    const std::string name = "depth/" + std::string(stamp) + ".png";
+    cv::imwrite(dir + "/" + name, d);
+    depth_txt += std::string(stamp) + " " + name + "\n";
+  }
+  WriteText(dir + "/rgb.txt", rgb_txt);
+  WriteText(dir + "/depth.txt", depth_txt);
+}
+
+TEST(TumRgbdReaderTest, ReportsUnmatchedFramesAndChecksTheLists) {
+  const std::string dir = TempDir() + "/rgbd_dataset_freiburg2_test";
+  // A depth image is missing for the third colour image; the last depth
+  // image has no colour image.
+  WriteTumFolder(dir, {10.0, 10.033, 10.066, 10.1},
+                 {10.001, 10.034, 10.101, 10.2});
+  TumRgbdSequence seq;
+  std::string error;
+  ASSERT_TRUE(ReadTumRgbdSequence(dir, {}, &seq, &error)) << error;
+  ASSERT_EQ(seq.frames.size(), 3u);
+  EXPECT_EQ(seq.frames[2].rgb.stamp, SecondsToNs(10.1));
+  EXPECT_EQ(seq.frames[2].depth.stamp, SecondsToNs(10.101));
+  ASSERT_EQ(seq.unmatched_rgb.size(), 1u);
+  EXPECT_EQ(seq.unmatched_rgb[0].line, 5);  // Two comment lines first.
+  ASSERT_EQ(seq.unmatched_depth.size(), 1u);
+  EXPECT_EQ(seq.unmatched_depth[0].stamp, SecondsToNs(10.2));
+  EXPECT_EQ(GuessTumCameraPreset(dir), "freiburg2");
+  EXPECT_EQ(GuessTumCameraPreset("/x/rgbd_tum_fr1_rpy_0-109/"), "freiburg1");
+  EXPECT_EQ(GuessTumCameraPreset("/x/frame_data"), "");
+  EXPECT_EQ(GuessTumCameraPreset("/x/freiburg1_vs_freiburg3"), "");
+
+  // Stamps going backwards, duplicate colour stamps, nothing associated,
+  // a listed image that is missing: errors naming file and line.
+  WriteText(dir + "/rgb.txt", "# c\n10.0 rgb/10.000000.png\n9.9 rgb/x.png\n");
+  EXPECT_FALSE(ReadTumRgbdSequence(dir, {}, &seq, &error));
+  EXPECT_TRUE(Contains(error, "rgb.txt:3: stamp 9.9 goes backwards")) << error;
+  WriteText(dir + "/rgb.txt",
+            "10.0 rgb/10.000000.png\n10.0 rgb/10.033000.png\n");
+  EXPECT_FALSE(ReadTumRgbdSequence(dir, {}, &seq, &error));
+  EXPECT_TRUE(Contains(error, "rgb.txt:2: stamp 10.0 repeats")) << error;
+  WriteText(dir + "/rgb.txt", "20.0 rgb/10.000000.png\n");
+  EXPECT_FALSE(ReadTumRgbdSequence(dir, {}, &seq, &error));
+  EXPECT_TRUE(Contains(error, "no colour image has a depth image")) << error;
+  WriteText(dir + "/rgb.txt", "# c\n10.0 rgb/gone.png\n");
+  EXPECT_FALSE(ReadTumRgbdSequence(dir, {}, &seq, &error));
+  EXPECT_TRUE(Contains(error, "rgb.txt:2: ")) << error;
+  EXPECT_TRUE(Contains(error, "gone.png: no such image file")) << error;
+  WriteText(dir + "/rgb.txt", "# c\n10.0\n");
+  EXPECT_FALSE(ReadTumRgbdSequence(dir, {}, &seq, &error));
+  EXPECT_TRUE(Contains(error, "rgb.txt:2: expected 'timestamp path'")) << error;
+}
+
+TEST(RgbdFeaturesTest, UndistortsKeypointsAndUsesTheMeasuredPixelsDepth) {
+  RgbdCamera camera;
+  ASSERT_TRUE(TumCameraPreset("freiburg1", &camera));
+  RgbdConfig config;
+  RgbdFeatureExtractor extractor(StereoFeatureConfig(), camera, config);
+  const StereoCalibration& c = extractor.calibration();
+  EXPECT_EQ(c.baseline, config.virtual_baseline);
+  // Pinhole points, distorted with OpenCV's model as the camera images
+  // them: undistortion must give the pinhole positions back.
+  const cv::Mat k = (cv::Mat_<double>(3, 3) << camera.fx, 0, camera.cx, 0,
+                     camera.fy, camera.cy, 0, 0, 1);
+  const cv::Mat dist = (cv::Mat_<double>(1, 5) << camera.k1, camera.k2,
+                        camera.p1, camera.p2, camera.k3);
+  std::vector<cv::Point3d> rays;
+  for (double x = -0.5; x <= 0.5; x += 0.25)
+    for (double y = -0.4; y <= 0.4; y += 0.2) rays.emplace_back(x, y, 1.0);
+  std::vector<cv::Point2d> distorted;
+  cv::projectPoints(rays, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), k, dist,
+                    distorted);
+  std::vector<cv::KeyPoint> keypoints;
+  for (const cv::Point2d& p : distorted)
+    keypoints.emplace_back(cv::Point2f(p.x, p.y), 31.0f);
+  cv::Mat depth(480, 640, CV_32F, cv::Scalar(0.0f));
+  // Depth 2 m around the measured pixel of keypoint 0 (a smooth surface),
+  // nothing elsewhere; keypoint 1 sits on a depth step.
+  depth(cv::Rect(std::lround(distorted[0].x) - 3,
+                 std::lround(distorted[0].y) - 3, 7, 7))
+      .setTo(2.0f);
+  const int col1 = std::lround(distorted[1].x),
+            row1 = std::lround(distorted[1].y);
+  depth(cv::Rect(col1 - 3, row1 - 3, 7, 7)).setTo(2.0f);
+  depth(cv::Rect(col1 + 1, row1 - 3, 3, 7)).setTo(2.5f);
+  const cv::Mat descriptors(static_cast<int>(keypoints.size()), 32, CV_8U,
+                            cv::Scalar(1));
+  const StereoFeatureFrame frame =
+      extractor.Measure(keypoints, descriptors, depth);
+  ASSERT_EQ(frame.size(), rays.size());
+  double max_error = 0.0;
+  for (size_t i = 0; i < rays.size(); ++i) {
+    const double u = camera.fx * rays[i].x + camera.cx;
+    const double v = camera.fy * rays[i].y + camera.cy;
+    max_error = std::max(max_error, std::hypot(frame.keypoints[i].pt.x - u,
+                                               frame.keypoints[i].pt.y - v));
+  }
+  EXPECT_LT(max_error, 0.05);
+  // Distortion moves these points by pixels: without it the test fails.
+  EXPECT_GT(std::hypot(distorted[0].x - (camera.fx * -0.5 + camera.cx),
+                       distorted[0].y - (camera.fy * -0.4 + camera.cy)),
+            5.0);
+  EXPECT_NEAR(frame.u_right[0],
+              frame.keypoints[0].pt.x - c.fx * c.baseline / 2.0, 1e-4);
+  for (size_t i = 1; i < frame.size(); ++i) EXPECT_FALSE(frame.HasStereo(i));
+  // Depth outside [min_depth, max_depth] is no measurement.
+  EXPECT_LT(VirtualRightU(320.0, config.max_depth + 0.1, c, config), 0.0);
+  EXPECT_LT(VirtualRightU(320.0, 0.0, c, config), 0.0);
+}
+
+// The synthetic world's frames, given to the pipeline as a source.
+class FrameListSource : public VisualFrameSource {
+ public:
+  FrameListSource(std::vector<StereoFeatureFrame> frames,
+                  const StereoCalibration& calibration, int width, int height)
+      : frames_(std::move(frames)),
+        calibration_(calibration),
+        width_(width),
+        height_(height) {}
+  size_t NumFrames() const override { return frames_.size(); }
+  const StereoCalibration& calibration() const override { return calibration_; }
+  int width() const override { return width_; }
+  int height() const override { return height_; }
+  bool Load(size_t k, VisualImages* images, std::string*) const override {
+    images->index = static_cast<int64_t>(k);
+    images->stamp = frames_[k].stamp;
+    return true;
+  }
+  StereoFeatureFrame Extract(const VisualImages& images,
+                             StereoFeatureTimings*) const override {
+    return frames_[images.index];
+  }
+
+ private:
+  std::vector<StereoFeatureFrame> frames_;
+  StereoCalibration calibration_;
+  int width_, height_;
+};
+
+// A room-sized world seen by a Freiburg 1 camera: keypoints rendered with
+// the camera's distortion, depth read at the measured pixel with noise
+// sigma_z = depth_noise * z^2 (a structured-light sensor).
+double RunSyntheticRgbd(double depth_noise, bool use_depth) {
+  RgbdCamera camera;
+  TumCameraPreset("freiburg1", &camera);
+  RgbdConfig rgbd;
+  StereoSimulationConfig sc;
+  sc.calibration = {camera.fx, camera.fy, camera.cx, camera.cy, 0.1};
+  sc.frames = 40;
+  sc.step = 0.02;  // 0.8 m along a weaving path.
+  sc.weave_amplitude = 0.1;
+  sc.points_per_metre = 1200;
+  sc.min_lateral = 0.3, sc.max_lateral = 2.5;
+  sc.min_height = -1.2, sc.max_height = 1.2;
+  sc.min_depth = 0.4, sc.max_depth = 5.0;
+  sc.pixel_sigma = 0.5;
+  const StereoSimulation sim = SimulateStereo(sc);
+  RgbdFeatureExtractor extractor(StereoFeatureConfig(), camera, rgbd);
+  const cv::Mat k = (cv::Mat_<double>(3, 3) << camera.fx, 0, camera.cx, 0,
+                     camera.fy, camera.cy, 0, 0, 1);
+  const cv::Mat dist = (cv::Mat_<double>(1, 5) << camera.k1, camera.k2,
+                        camera.p1, camera.p2, camera.k3);
+  std::mt19937 rng(3);
+  std::normal_distribution<double> noise(0.0, 1.0);
+  std::vector<StereoFeatureFrame> frames;
+  for (size_t f = 0; f < sim.frames.size(); ++f) {
+    const StereoFeatureFrame& s = sim.frames[f];
+    const Pose3& pose = sim.poses[f].pose;
+    std::vector<cv::Point3d> rays;
+    for (const cv::KeyPoint& kp : s.keypoints) {
+      rays.emplace_back((kp.pt.x - camera.cx) / camera.fx,
+                        (kp.pt.y - camera.cy) / camera.fy, 1.0);
+    }
+    std::vector<cv::Point2d> measured;
+    if (!rays.empty()) {
+      cv::projectPoints(rays, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), k, dist,
+                        measured);
+    }
+    cv::Mat depth(480, 640, CV_32F, cv::Scalar(0.0f));
+    std::vector<cv::KeyPoint> keypoints;
+    std::vector<int> rows;
+    for (size_t i = 0; i < measured.size(); ++i) {
+      const int col = static_cast<int>(std::lround(measured[i].x));
+      const int row = static_cast<int>(std::lround(measured[i].y));
+      if (col < 0 || row < 0 || col >= 640 || row >= 480) continue;
+      const Eigen::Vector3d pc =
+          pose.q.conjugate() * (sim.points[sim.true_point[f][i]] - pose.t);
+      const double z = pc.z() + depth_noise * pc.z() * pc.z() * noise(rng);
+      // A smooth surface around the keypoint (5 x 5 pixels).
+      if (use_depth) {
+        depth(cv::Rect(col - 2, row - 2, 5, 5) & cv::Rect(0, 0, 640, 480))
+            .setTo(static_cast<float>(z));
+      }
+      keypoints.emplace_back(cv::Point2f(measured[i].x, measured[i].y), 31.0f);
+      keypoints.back().octave = 0;
+      rows.push_back(static_cast<int>(i));
+    }
+    cv::Mat descriptors(static_cast<int>(rows.size()), 32, CV_8U);
+    for (size_t r = 0; r < rows.size(); ++r)
+      s.descriptors.row(rows[r]).copyTo(descriptors.row(static_cast<int>(r)));
+    StereoFeatureFrame frame = extractor.Measure(keypoints, descriptors, depth);
+    frame.index = s.index;
+    frame.stamp = s.stamp;
+    frames.push_back(std::move(frame));
+  }
+  FrameListSource source(std::move(frames), extractor.calibration(), 640, 480);
+  VisualSlamConfig config;
+  config.loop_closure.enabled = false;
+  VisualSlam slam(config, &source);
+  VisualSlamResult result;
+  std::string error;
+  EXPECT_TRUE(slam.Run({}, &result, &error)) << error;
+  if (result.trajectory.size() != sim.poses.size()) return INFINITY;
+  double sse = 0.0;
+  for (size_t f = 0; f < sim.poses.size(); ++f) {
+    sse += (result.trajectory[f].pose.t - sim.poses[f].pose.t).squaredNorm();
+  }
+  return std::sqrt(sse / sim.poses.size());
+}
+
+TEST(RgbdSlamTest, SyntheticRgbdWorldRecoversThePath) {
+  // Kinect-like depth noise: 1.5 mm at 1 m, 6 mm at 2 m, 24 mm at 4 m.
+  const double rmse = RunSyntheticRgbd(0.0015, true);
+  std::printf("synthetic RGB-D: position rmse %.4f m over 0.8 m\n", rmse);
+  EXPECT_LT(rmse, 0.01);
+  // Without depth the map never starts (no stereo-like keypoints): the
+  // same world cannot be tracked, so the test above measures the depth.
+  const double no_depth = RunSyntheticRgbd(0.0015, false);
+  EXPECT_GT(no_depth, 0.1);
+}
+
+TEST(RgbdRunConfigTest, RoundTripsThroughItsYamlDumpAndRejectsUnknownKeys) {
+  RgbdRunConfig config;
+  std::string error;
+  ASSERT_TRUE(
+      LoadRgbdRunConfig(testing::ConfigPath("tum_rgbd.yaml"), &config, &error))
+      << error;
+  EXPECT_EQ(config.features.max_features, 1000);
+  EXPECT_EQ(config.camera, "auto");
+  const std::string dir = TempDir();
+  const std::string dump = RgbdRunConfigToYaml(config);
+  WriteText(dir + "/dump.yaml", dump);
+  RgbdRunConfig again;
+  ASSERT_TRUE(LoadRgbdRunConfig(dir + "/dump.yaml", &again, &error)) << error;
+  EXPECT_EQ(RgbdRunConfigToYaml(again), dump);
+  WriteText(dir + "/bad.yaml",
+            "run:\n  pipeline: rgbd\n  depth:\n    baseline: 0.1\n");
+  EXPECT_FALSE(LoadRgbdRunConfig(dir + "/bad.yaml", &again, &error));
+  EXPECT_TRUE(Contains(error, "bad.yaml:4")) << error;
+  EXPECT_TRUE(Contains(error, "baseline")) << error;
+  WriteText(dir + "/bad.yaml", "run:\n  pipeline: rgbd\n  camera: kinect\n");
+  EXPECT_FALSE(LoadRgbdRunConfig(dir + "/bad.yaml", &again, &error));
+  EXPECT_TRUE(Contains(error, "camera must be freiburg1")) << error;
+}
+
+// slam run on a TUM folder written here (640 x 480: the Freiburg cameras'
+// principal points must fit), with the given extra run: lines.
+int RunRgbd(const std::string& dir, const std::string& sequence,
+            const std::string& extra = "",
+            const std::string& camera = "freiburg1") {
+  WriteText(dir + "/run.yaml", "run:\n  pipeline: rgbd\n  sequence: " +
+                                   sequence + "\n  output_dir: " + dir +
+                                   "/out\n  camera: " + camera + "\n" + extra);
+  return RunSlam(
+      "run --config " + dir + "/run.yaml --report " + dir + "/out/report.json",
+      dir + "/log.txt");
+}
+
+const std::vector<double> kStamps = {1.0, 1.033, 1.066, 1.1, 1.133, 1.166};
+
+TEST(RgbdRunTest, RunsOnAHandmadeFolder) {
+  const std::string dir = TempDir();
+  WriteTumFolder(dir + "/seq", kStamps, kStamps, 640, 480);
+  ASSERT_EQ(RunRgbd(dir, dir + "/seq"), 0) << ReadText(dir + "/log.txt");
+  const std::string log = ReadText(dir + "/log.txt");
+  EXPECT_TRUE(Contains(log, "camera freiburg1 (preset named by run.camera)"))
+      << log;
+  for (const char* f :
+       {"trajectory_kitti.txt", "trajectory.tum", "graph.g2o", "map_points.ply",
+        "timings.csv", "map.png", "report.json"}) {
+    EXPECT_TRUE(Exists(dir + "/out/" + f)) << f;
+  }
+  // The colour stamps, one pose each; the same view every frame: the camera
+  // stays where it is.
+  const std::string tum = ReadText(dir + "/out/trajectory.tum");
+  EXPECT_EQ(std::count(tum.begin(), tum.end(), '\n'), 7) << tum;  // Header.
+  EXPECT_TRUE(Contains(tum, "1.166")) << tum;
+  std::istringstream lines(tum);
+  std::string line;
+  while (std::getline(lines, line)) {
+    if (line[0] == '#') continue;
+    std::istringstream fields(line);
+    double t, x, y, z;
+    fields >> t >> x >> y >> z;
+    EXPECT_LT(std::sqrt(x * x + y * y + z * z), 0.01) << line;
+  }
+}
+
+TEST(RgbdRunTest, BadInputFailsWithAMessageAndNoOutputs) {
+  struct Case {
+    const char* what;
+    std::function<void(const std::string&)> damage;
+    const char* extra;
+    const char* expected;
+  };
+  const Case cases[] = {
+      {"unreadable colour image",
+       [](const std::string& s) {
+         WriteText(s + "/rgb/1.066000.png", "not a png");
+       },
+       "", "rgb.txt:5: "},
+      {"8-bit depth image",
+       [](const std::string& s) {
+         cv::imwrite(s + "/depth/1.100000.png",
+                     cv::Mat(480, 640, CV_8U, cv::Scalar(50)));
+       },
+       "", "the depth image is 8-bit"},
+      {"depth image of another size",
+       [](const std::string& s) {
+         cv::imwrite(s + "/depth/1.133000.png",
+                     cv::Mat(240, 320, CV_16U, cv::Scalar(5000)));
+       },
+       "", "the depth image is 320x240 but its colour image"},
+      {"depth factor 0", [](const std::string&) {},
+       "  depth:\n    depth_factor: 0\n", "depth_factor must be > 0"},
+      {"depth factor negative", [](const std::string&) {},
+       "  depth:\n    depth_factor: -5000\n", "depth_factor must be > 0"},
+      {"stamps going backwards",
+       [](const std::string& s) {
+         WriteText(s + "/depth.txt",
+                   "1.0 depth/1.000000.png\n0.5 depth/1.033000.png\n");
+       },
+       "", "depth.txt:2: stamp 0.5 goes backwards"},
+      {"nothing associated",
+       [](const std::string& s) {
+         WriteText(s + "/depth.txt", "7.0 depth/1.000000.png\n");
+       },
+       "", "no colour image has a depth image"},
+      {"camera for another image size", [](const std::string&) {},
+       "  intrinsics: {fx: 500, fy: 500, cx: 600, cy: 400}\n",
+       "is not in its middle half"},
+  };
+  for (const Case& c : cases) {
+    const std::string dir = TempDir();
+    WriteTumFolder(dir + "/seq", kStamps, kStamps, 640, 480);
+    c.damage(dir + "/seq");
+    const std::string extra = c.extra;
+    const bool custom = extra.find("intrinsics") != std::string::npos;
+    EXPECT_EQ(
+        RunRgbd(dir, dir + "/seq", extra, custom ? "custom" : "freiburg1"), 1)
+        << c.what;
+    const std::string log = ReadText(dir + "/log.txt");
+    EXPECT_TRUE(Contains(log, c.expected)) << c.what << ": " << log;
+    EXPECT_TRUE(!Exists(dir + "/out") || fs::is_empty(dir + "/out")) << c.what;
+  }
+}
+
+// The report's numbers ("key": value).
+double ReportNumber(const std::string& report, const std::string& key,
+                    const std::string& after = "") {
+  const size_t from = after.empty() ? 0 : report.find("\"" + after + "\"");
+  const size_t at = report.find("\"" + key + "\"", from);
+  if (at == std::string::npos) return NAN;
+  return std::stod(report.substr(report.find(':', at) + 1));
+}
+
+TEST(RgbdRunTest, TumFr1RpyExcerptEndToEnd) {
+  SLAM_REQUIRE_DATASET(DatasetPath("rgbd_tum_fr1_rpy_0-109/rgb.txt"));
+  const std::string dir = TempDir();
+  // The shipped config, without the loop closing (it finds no verified loop
+  // on these 110 frames, and training its vocabulary doubles the run time).
+  std::string config = ReadText(testing::ConfigPath("tum_rgbd.yaml"));
+  config.replace(config.find("run:\n"), 5,
+                 "run:\n  loop_closure:\n    enabled: false\n");
+  WriteText(dir + "/run.yaml", config);
+  ASSERT_EQ(RunSlam("run --config " + dir + "/run.yaml --datasets " +
+                        testing::DatasetsDir() + " --output_dir " + dir +
+                        "/out --report " + dir + "/report.json",
+                    dir + "/log.txt"),
+            0)
+      << ReadText(dir + "/log.txt");
+  const std::string log = ReadText(dir + "/log.txt");
+  EXPECT_TRUE(Contains(log, "camera freiburg1 (guessed from the folder name)"))
+      << log;
+  const std::string report = ReadText(dir + "/report.json");
+  EXPECT_EQ(ReportNumber(report, "frames"), 110);
+  const double ate = ReportNumber(report, "rmse", "ape_translation");
+  const double rpe_r = ReportNumber(report, "rmse", "rpe_rotation");
+  std::printf("TUM fr1/rpy excerpt: ATE %.4f m, RPE rotation %.3f deg\n", ate,
+              rpe_r);
+  // Regression bounds with a margin over what the pipeline reaches (ATE
+  // 0.049 m, RPE 0.56 deg; README), not the issue's targets (0.020 m,
+  // 0.40 deg), which it does not reach. A camera that never moves scores
+  // ATE 0.040 m and RPE 2.26 deg here: the rotation is what is measured.
+  EXPECT_LT(ate, 0.07) << report;
+  EXPECT_LT(rpe_r, 0.75) << report;
+  EXPECT_FALSE(std::isnan(ReportNumber(report, "rmse", "rpe_per_second")))
+      << report;
+  for (const char* f : {"trajectory.tum", "graph.g2o", "map_points.ply",
+                        "timings.csv", "map.png", "plots/trajectories.png"}) {
+    EXPECT_TRUE(Exists(dir + "/out/" + f)) << f;
+  }
+  ASSERT_EQ(RunSlam("optimize -i " + dir + "/out/graph.g2o -o " + dir +
+                        "/ba.g2o --report " + dir + "/ba.json",
+                    dir + "/optimize.txt"),
+            0)
+      << ReadText(dir + "/optimize.txt");
+}
+
+}  // namespace
+}  // namespace slam
