@@ -23,7 +23,7 @@
 #include <vector>
 
 #include "apps/common_flags.h"
-#include "core/evaluation.h"
+#include "core/metrics/evaluation.h"
 #include "core/trajectory.h"
 #include "frontends/visual/visual_slam.h"
 
