@@ -364,12 +364,11 @@ bool ReadKittiSequence(const std::string& dir,
       return false;
     }
   }
-  const std::string raw_times =
-      (root / "image_00" / "timestamps.txt").string();
-  const std::string times_path =
-      !options.times_path.empty() ? options.times_path
-      : s.raw_layout              ? raw_times
-                                  : (root / "times.txt").string();
+  const std::string raw_times = (root / "image_00" / "timestamps.txt").string();
+  const std::string times_path = !options.times_path.empty()
+                                     ? options.times_path
+                                 : s.raw_layout ? raw_times
+                                                : (root / "times.txt").string();
   const bool date_times = s.raw_layout && options.times_path.empty();
   if (!options.times_path.empty() || fs::exists(times_path, ec)) {
     std::string text;

@@ -168,8 +168,7 @@ TEST(StereoOdometryTest, FarFieldDisparityBiasDoesNotBiasTheScale) {
       // The mechanism: every disparity trusted alike (no far points).
       StereoOdometryConfig trusting;
       trusting.close_depth_baselines = 1e9;
-      StereoOdometry all_stereo(trusting, sc.calibration, sc.width,
-                                sc.height);
+      StereoOdometry all_stereo(trusting, sc.calibration, sc.width, sc.height);
       const RunResult t = RunOdometry(sim, sc, &all_stereo);
       const double biased = PathLength(t.estimate) / PathLength(sim.poses);
       std::printf("far field, every disparity trusted: ratio %.4f\n", biased);

@@ -173,9 +173,9 @@ void MakeRawLayout(const std::string& odometry, const std::string& raw,
       char from[32], to[32], stamp[64];
       std::snprintf(from, sizeof(from), "%06d.png", k);
       std::snprintf(to, sizeof(to), "%010d.png", k);
-      fs::copy_file(odometry + (side[7] == '0' ? "/image_0/" : "/image_1/") +
-                        from,
-                    raw + "/" + side + "/data/" + to);
+      fs::copy_file(
+          odometry + (side[7] == '0' ? "/image_0/" : "/image_1/") + from,
+          raw + "/" + side + "/data/" + to);
       std::snprintf(stamp, sizeof(stamp), "2011-09-26 13:02:%02d.%d\n",
                     25 + k / 10, k % 10);
       stamps += stamp;
@@ -202,7 +202,8 @@ TEST(KittiSequenceTest, ReadsTheKittiRawLayout) {
   EXPECT_TRUE(s.has_times);
   ASSERT_EQ(s.left_images.size(), 3u);
   EXPECT_EQ(fs::path(s.left_images[2]).filename(), "0000000002.png");
-  EXPECT_TRUE(Contains(s.right_images[0], "image_01/data/")) << s.right_images[0];
+  EXPECT_TRUE(Contains(s.right_images[0], "image_01/data/"))
+      << s.right_images[0];
   EXPECT_EQ(s.calibration_path, dir + "/2011_09_26/calib_cam_to_cam.txt");
   EXPECT_DOUBLE_EQ(s.calibration.baseline, 0.5);
   EXPECT_EQ(s.calibration.fx, 300);
@@ -226,8 +227,7 @@ TEST(KittiSequenceTest, ReadsTheKittiRawLayout) {
        "timestamps.txt:2: expected a date-time stamp"},
       {"2011-09-26 13:02:25.9\n2011-09-26 13:02:25.8\n2011-09-26 13:02:27\n",
        "timestamps.txt:2: stamps must increase"},
-      {"2011-09-26 13:02:25.9\n2011-09-26 13:02:26\n",
-       "2 stamps for 3 images"},
+      {"2011-09-26 13:02:25.9\n2011-09-26 13:02:26\n", "2 stamps for 3 images"},
   };
   for (const auto& [text, expected] : stamp_cases) {
     WriteText(drive + "/image_00/timestamps.txt", text);
@@ -245,17 +245,19 @@ TEST(KittiSequenceTest, ReadsTheKittiRawLayout) {
       << error;
   // Unrectified images: the raw sensor size S_00, or an _extract folder.
   WriteText(drive + "/calib_cam_to_cam.txt",
-            std::regex_replace(kRawCalib, std::regex("S_00: 1.392000e\\+03 "
-                                                     "5.120000e\\+02"),
+            std::regex_replace(kRawCalib,
+                               std::regex("S_00: 1.392000e\\+03 "
+                                          "5.120000e\\+02"),
                                "S_00: 320 120"));
   WriteText(dir + "/2011_09_26/calib_cam_to_cam.txt", "");
   ASSERT_TRUE(ReadKittiSequence(drive, {}, &s, &error)) << error;
-  WriteText(drive + "/calib_cam_to_cam.txt",
-            std::regex_replace(
-                std::regex_replace(kRawCalib, std::regex("S_00: 1.392000e\\+03 "
-                                                         "5.120000e\\+02"),
-                                   "S_00: 320 120"),
-                std::regex("S_rect_00: 3.2"), "S_rect_00: 3.1"));
+  WriteText(
+      drive + "/calib_cam_to_cam.txt",
+      std::regex_replace(std::regex_replace(kRawCalib,
+                                            std::regex("S_00: 1.392000e\\+03 "
+                                                       "5.120000e\\+02"),
+                                            "S_00: 320 120"),
+                         std::regex("S_rect_00: 3.2"), "S_rect_00: 3.1"));
   EXPECT_FALSE(ReadKittiSequence(drive, {}, &s, &error));
   EXPECT_TRUE(Contains(error, "unrectified KITTI raw images")) << error;
   EXPECT_TRUE(Contains(error, "320x120")) << error;

@@ -276,9 +276,8 @@ void StereoFeatureExtractor::MatchStereo(
                  s3 = sad[best_s + w + 1];
     const double denom = 2.0 * (s1 + s3 - 2.0 * s2);
     double delta = denom > 0 ? (s1 - s3) / denom : 0.0;
-    if (std::abs(delta) > 1.0 ||
-        !RefineShift(left, right, ul, ur0 + best_s, v, c.patch_radius,
-                     &delta)) {
+    if (std::abs(delta) > 1.0 || !RefineShift(left, right, ul, ur0 + best_s, v,
+                                              c.patch_radius, &delta)) {
       continue;
     }
     const double disparity = ul - (ur0 + best_s + delta);

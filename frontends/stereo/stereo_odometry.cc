@@ -65,8 +65,7 @@ bool ValidateStereoOdometryConfig(const StereoOdometryConfig& c,
   if (!(c.keyframe_tracked_ratio >= 0 && c.keyframe_tracked_ratio <= 1) ||
       c.keyframe_close_tracked < 0 || c.keyframe_new_close < 0 ||
       !(c.keyframe_rotation > 0) || c.keyframe_min_frames < 1 ||
-      c.keyframe_max_frames < c.keyframe_min_frames ||
-      c.min_initial_points < 6)
+      c.keyframe_max_frames < c.keyframe_min_frames || c.min_initial_points < 6)
     return fail(
         "keyframes: tracked_ratio in [0, 1], close_tracked and new_close "
         ">= 0, rotation > 0, 1 <= min_frames <= max_frames, "
@@ -305,7 +304,8 @@ int StereoOdometry::OptimizePose(const StereoFeatureFrame& frame,
   // Unconfirmed far points are classified, not used (step 4).
   std::vector<bool> informs(matches->size());
   for (size_t k = 0; k < matches->size(); ++k) {
-    informs[k] = !config_.far_points_wait || points_[(*matches)[k].point].confirmed;
+    informs[k] =
+        !config_.far_points_wait || points_[(*matches)[k].point].confirmed;
   }
   const ceres::Manifold* manifold = graph_.ManifoldFor(NodeKind::kPose3);
   int inliers = 0;
@@ -396,8 +396,8 @@ int64_t StereoOdometry::AddKeyframe(const StereoFeatureFrame& frame,
                     : KeyframePose(mp.observations[0].keyframe).t))
               .normalized();
       const Eigen::Vector3d b = (x - pose.t).normalized();
-      mp.confirmed = std::acos(std::clamp(a.dot(b), -1.0, 1.0)) >=
-                     config_.min_parallax;
+      mp.confirmed =
+          std::acos(std::clamp(a.dot(b), -1.0, 1.0)) >= config_.min_parallax;
     }
     frame.descriptors.row(keypoint).copyTo(points_[point].descriptor);
     kf.point_of_keypoint[keypoint] = point;
@@ -647,10 +647,9 @@ StereoFrameResult StereoOdometry::AddFrame(const StereoFeatureFrame& frame) {
     close_untracked += !tracked[i] && IsClose(frame, i);
   }
   const Pose3 from_last = KeyframePose(last_id).Inverse() * pose;
-  const bool need =
-      inliers < config_.keyframe_tracked_ratio * last_points ||
-      (result.close_tracked < config_.keyframe_close_tracked &&
-       close_untracked > config_.keyframe_new_close);
+  const bool need = inliers < config_.keyframe_tracked_ratio * last_points ||
+                    (result.close_tracked < config_.keyframe_close_tracked &&
+                     close_untracked > config_.keyframe_new_close);
   const bool make_keyframe =
       result.lost || frames_since_keyframe_ >= config_.keyframe_max_frames ||
       RotationAngle(from_last) > config_.keyframe_rotation ||

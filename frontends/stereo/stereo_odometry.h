@@ -118,7 +118,7 @@ struct StereoOdometryConfig {
   double pnp_ratio = 0.8;  // Brute-force matching ratio test.
   // Keyframes (step 6).
   double keyframe_tracked_ratio = 0.75;  // ORB-SLAM2 (stereo).
-  int keyframe_close_tracked = 20;  // ORB-SLAM2: 100 and 70.
+  int keyframe_close_tracked = 20;       // ORB-SLAM2: 100 (and 70 new).
   int keyframe_new_close = 70;
   double keyframe_rotation = 0.17;  // rad (about 10 deg).
   int keyframe_min_frames = 2;

@@ -96,8 +96,8 @@ StereoSimulation SimulateStereo(const StereoSimulationConfig& c) {
       ur += c.pixel_sigma * noise(rng);
       double disparity = u - ur + c.disparity_bias;
       if (c.disparity_quantum > 0) {
-        disparity = c.disparity_quantum *
-                    std::round(disparity / c.disparity_quantum);
+        disparity =
+            c.disparity_quantum * std::round(disparity / c.disparity_quantum);
       }
       ur = u - disparity;
       bool is_outlier = false;
