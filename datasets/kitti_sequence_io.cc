@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
+#include <cstring>
 #include <filesystem>
 
 #include "datasets/text_util.h"
@@ -54,7 +56,100 @@ NameKey KeyOf(const std::string& name) {
   return key;
 }
 
+// Days from 1970-01-01 to the given civil date (proleptic Gregorian; H.
+// Hinnant's days_from_civil).
+int64_t DaysFromCivil(int64_t y, int m, int d) {
+  y -= m <= 2;
+  const int64_t era = (y >= 0 ? y : y - 399) / 400;
+  const int64_t yoe = y - era * 400;
+  const int64_t doy = (153 * (m + (m > 2 ? -3 : 9)) + 2) / 5 + d - 1;
+  const int64_t doe = yoe * 365 + yoe / 4 - yoe / 100 + doy;
+  return era * 146097 + doe - 719468;
+}
+
+// The width and height of a PNG file from its header; false if it is not
+// a readable PNG.
+bool PngSize(const std::string& path, int* width, int* height) {
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (f == nullptr) return false;
+  unsigned char h[24];
+  const size_t n = std::fread(h, 1, sizeof(h), f);
+  std::fclose(f);
+  static const unsigned char kSignature[8] = {0x89, 'P',  'N',  'G',
+                                              '\r', '\n', 0x1a, '\n'};
+  if (n != sizeof(h) || std::memcmp(h, kSignature, 8) != 0 ||
+      std::memcmp(h + 12, "IHDR", 4) != 0) {
+    return false;
+  }
+  auto be32 = [&](int at) {
+    return static_cast<int64_t>(h[at]) << 24 | h[at + 1] << 16 |
+           h[at + 2] << 8 | h[at + 3];
+  };
+  if (be32(16) > (1 << 20) || be32(20) > (1 << 20)) return false;
+  *width = static_cast<int>(be32(16));
+  *height = static_cast<int>(be32(20));
+  return true;
+}
+
+// The "S_rect_00:" or "S_00:" (image size) line of calib_cam_to_cam.txt;
+// false if absent or malformed.
+bool CalibrationImageSize(const std::string& path, const char* label,
+                          int* width, int* height) {
+  std::string text, error;
+  if (!text::ReadWholeFile(path, &text, &error)) return false;
+  text::LineTokenizer lines(text);
+  while (lines.Next()) {
+    const auto& tokens = lines.tokens();
+    if (tokens[0] != label || tokens.size() != 3) continue;
+    double w = 0, h = 0;
+    if (!text::ParseDouble(tokens[1], &w) || !text::ParseDouble(tokens[2], &h))
+      return false;
+    *width = static_cast<int>(std::lround(w));
+    *height = static_cast<int>(std::lround(h));
+    return true;
+  }
+  return false;
+}
+
 }  // namespace
+
+bool ParseKittiRawTimestamp(std::string_view text, TimeNs* stamp) {
+  // YYYY-MM-DD HH:MM:SS[.fraction], at most 9 fraction digits.
+  auto digits = [&](size_t at, size_t count, int* value) {
+    if (at + count > text.size()) return false;
+    *value = 0;
+    for (size_t k = at; k < at + count; ++k) {
+      if (!std::isdigit(static_cast<unsigned char>(text[k]))) return false;
+      *value = *value * 10 + (text[k] - '0');
+    }
+    return true;
+  };
+  int year, month, day, hour, minute, second;
+  if (text.size() < 19 || !digits(0, 4, &year) || text[4] != '-' ||
+      !digits(5, 2, &month) || text[7] != '-' || !digits(8, 2, &day) ||
+      (text[10] != ' ' && text[10] != 'T') || !digits(11, 2, &hour) ||
+      text[13] != ':' || !digits(14, 2, &minute) || text[16] != ':' ||
+      !digits(17, 2, &second)) {
+    return false;
+  }
+  if (month < 1 || month > 12 || day < 1 || day > 31 || hour > 23 ||
+      minute > 59 || second > 60) {
+    return false;
+  }
+  int64_t nanoseconds = 0;
+  if (text.size() > 19) {
+    if (text[19] != '.' || text.size() == 20 || text.size() > 29) return false;
+    int64_t scale = 100000000;
+    for (size_t k = 20; k < text.size(); ++k, scale /= 10) {
+      if (!std::isdigit(static_cast<unsigned char>(text[k]))) return false;
+      nanoseconds += (text[k] - '0') * scale;
+    }
+  }
+  const int64_t seconds = DaysFromCivil(year, month, day) * 86400 +
+                          hour * 3600 + minute * 60 + second;
+  *stamp = seconds * 1000000000 + nanoseconds;
+  return true;
+}
 
 bool ListImageFiles(const std::string& dir, std::vector<std::string>* paths,
                     std::string* error) {
@@ -102,8 +197,8 @@ bool ReadKittiStereoCalibration(const std::string& path,
     size_t first = 0;
     const std::string_view head = tokens[0];
     if (!head.empty() && head.back() == ':') {
-      if (head == "P0:") which = 0;
-      if (head == "P1:") which = 1;
+      if (head == "P0:" || head == "P_rect_00:") which = 0;
+      if (head == "P1:" || head == "P_rect_01:") which = 1;
       if (which < 0) continue;  // P2, P3, Tr, ...: not needed.
       first = 1;
     } else {
@@ -132,7 +227,8 @@ bool ReadKittiStereoCalibration(const std::string& path,
   if (!have[0] || !have[1]) {
     *error = path +
              ": needs the projection matrices P0 and P1 (labelled "
-             "'P0:'/'P1:' or the first two unlabelled lines), found " +
+             "'P0:'/'P1:' or 'P_rect_00:'/'P_rect_01:', or the first two "
+             "unlabelled lines), found " +
              std::string(have[0]   ? "only P0"
                          : have[1] ? "only P1"
                                    : "neither");
@@ -196,17 +292,25 @@ bool ReadKittiSequence(const std::string& dir,
     return false;
   }
   const fs::path root(dir);
-  if (!ListImageFiles((root / "image_0").string(), &s.left_images, error) ||
-      !ListImageFiles((root / "image_1").string(), &s.right_images, error)) {
+  s.raw_layout = fs::is_directory(root / "image_00" / "data", ec);
+  const std::string left_name = s.raw_layout ? "image_00" : "image_0";
+  const std::string right_name = s.raw_layout ? "image_01" : "image_1";
+  const fs::path left_dir =
+      s.raw_layout ? root / "image_00" / "data" : root / "image_0";
+  const fs::path right_dir =
+      s.raw_layout ? root / "image_01" / "data" : root / "image_1";
+  if (!ListImageFiles(left_dir.string(), &s.left_images, error) ||
+      !ListImageFiles(right_dir.string(), &s.right_images, error)) {
     return false;
   }
   if (s.left_images.empty()) {
-    *error = (root / "image_0").string() + ": no image files";
+    *error = left_dir.string() + ": no image files";
     return false;
   }
   if (s.left_images.size() != s.right_images.size()) {
-    *error = dir + ": image_0 has " + std::to_string(s.left_images.size()) +
-             " images but image_1 has " + std::to_string(s.right_images.size());
+    *error = dir + ": " + left_name + " has " +
+             std::to_string(s.left_images.size()) + " images but " +
+             right_name + " has " + std::to_string(s.right_images.size());
     return false;
   }
   for (size_t k = 0; k < s.left_images.size(); ++k) {
@@ -215,41 +319,93 @@ bool ReadKittiSequence(const std::string& dir,
     if (l != r) {
       *error = dir + ": frame " + std::to_string(k) + " is " +
                s.left_images[k] + " on the left but " + s.right_images[k] +
-               " on the right (image_0 and image_1 must hold the same names)";
+               " on the right (" + left_name + " and " + right_name +
+               " must hold the same names)";
       return false;
     }
   }
-  s.calibration_path = options.calibration_path.empty()
-                           ? (root / "calib.txt").string()
-                           : options.calibration_path;
+  s.calibration_path = options.calibration_path;
+  if (s.calibration_path.empty() && !s.raw_layout) {
+    s.calibration_path = (root / "calib.txt").string();
+  } else if (s.calibration_path.empty()) {
+    // In the drive folder, else in the date folder above it (as unpacked).
+    const fs::path parent = fs::absolute(root, ec).parent_path();
+    s.calibration_path = (root / "calib_cam_to_cam.txt").string();
+    if (!fs::exists(s.calibration_path, ec) &&
+        fs::exists(parent / "calib_cam_to_cam.txt", ec)) {
+      s.calibration_path = (parent / "calib_cam_to_cam.txt").string();
+    }
+  }
   if (!ReadKittiStereoCalibration(s.calibration_path, &s.calibration, error)) {
     return false;
   }
-  const std::string times_path = options.times_path.empty()
-                                     ? (root / "times.txt").string()
-                                     : options.times_path;
   const size_t n = s.left_images.size();
+  if (s.raw_layout) {
+    // Unrectified images (the "extract" download) have the raw sensor size
+    // S_00, the rectified ones S_rect_00: P_rect only fits the latter.
+    std::string name = fs::absolute(root, ec).lexically_normal().string();
+    while (!name.empty() && name.back() == '/') name.pop_back();
+    int w = 0, h = 0, rw = 0, rh = 0, sw = 0, sh = 0;
+    const bool extract_name =
+        name.size() >= 8 && name.compare(name.size() - 8, 8, "_extract") == 0;
+    if (extract_name ||
+        (PngSize(s.left_images[0], &w, &h) &&
+         CalibrationImageSize(s.calibration_path, "S_00:", &sw, &sh) &&
+         w == sw && h == sh &&
+         !(CalibrationImageSize(s.calibration_path, "S_rect_00:", &rw, &rh) &&
+           w == rw && h == rh))) {
+      *error = dir +
+               ": unrectified KITTI raw images (the 'extract' download"
+               "; " +
+               (extract_name ? std::string("folder name")
+                             : "image size " + std::to_string(w) + "x" +
+                                   std::to_string(h) + " = S_00") +
+               "): the stereo frontend needs the rectified 'sync' images";
+      return false;
+    }
+  }
+  const std::string raw_times = (root / "image_00" / "timestamps.txt").string();
+  const std::string times_path = !options.times_path.empty()
+                                     ? options.times_path
+                                 : s.raw_layout ? raw_times
+                                                : (root / "times.txt").string();
+  const bool date_times = s.raw_layout && options.times_path.empty();
   if (!options.times_path.empty() || fs::exists(times_path, ec)) {
     std::string text;
     if (!text::ReadWholeFile(times_path, &text, error)) return false;
     text::LineTokenizer lines(text);
     while (lines.Next()) {
       const auto& tokens = lines.tokens();
-      double seconds = 0.0;
-      if (tokens.size() != 1 || !text::ParseDouble(tokens[0], &seconds) ||
-          std::abs(seconds) > 1e10) {
-        *error = times_path + ":" + std::to_string(lines.line()) +
-                 ": expected one stamp in seconds (|t| <= 1e10), found '" +
-                 text::Printable(tokens[0]) + "'" +
-                 (tokens.size() != 1 ? " and more" : "");
-        return false;
+      TimeNs stamp = 0;
+      if (date_times) {
+        // "2011-09-26 13:02:25.967790592": two tokens.
+        const std::string joined =
+            std::string(tokens[0]) +
+            (tokens.size() > 1 ? " " + std::string(tokens[1]) : "");
+        if (tokens.size() != 2 || !ParseKittiRawTimestamp(joined, &stamp)) {
+          *error = times_path + ":" + std::to_string(lines.line()) +
+                   ": expected a date-time stamp 'YYYY-MM-DD "
+                   "HH:MM:SS.fraction', found '" +
+                   text::Printable(joined) + "'";
+          return false;
+        }
+      } else {
+        double seconds = 0.0;
+        if (tokens.size() != 1 || !text::ParseDouble(tokens[0], &seconds) ||
+            std::abs(seconds) > 1e10) {
+          *error = times_path + ":" + std::to_string(lines.line()) +
+                   ": expected one stamp in seconds (|t| <= 1e10), found '" +
+                   text::Printable(tokens[0]) + "'" +
+                   (tokens.size() != 1 ? " and more" : "");
+          return false;
+        }
+        stamp = SecondsToNs(seconds);
       }
       if (s.stamps.size() == n) {
         *error = times_path + ":" + std::to_string(lines.line()) +
                  ": more stamps than the " + std::to_string(n) + " images";
         return false;
       }
-      const TimeNs stamp = SecondsToNs(seconds);
       if (!s.stamps.empty() && stamp <= s.stamps.back()) {
         *error = times_path + ":" + std::to_string(lines.line()) +
                  ": stamps must increase strictly";

@@ -24,10 +24,24 @@
 //
 // Stamps: times.txt when present (one per image, strictly increasing);
 // otherwise frame k gets k * default_frame_period and has_times is false.
+//
+// KITTI raw layout (a 2011_09_26_drive_XXXX_sync folder; detected by
+// DIR/image_00/data):
+//   DIR/image_00/data/, DIR/image_01/data/   rectified left and right images
+//   DIR/image_00/timestamps.txt              date-time stamps, one per image
+//                                            ("2011-09-26 13:02:25.967790592",
+//                                            read as UTC nanoseconds since
+//                                            1970)
+//   calib_cam_to_cam.txt                     in DIR or in the date folder
+//                                            above it: "P_rect_00:" and
+//                                            "P_rect_01:" are P0 and P1
+// The unrectified "extract" download (folder name ending in _extract, or
+// images of the raw sensor size S_00 rather than S_rect_00) is refused.
 #ifndef SLAM_DATASETS_KITTI_SEQUENCE_IO_H_
 #define SLAM_DATASETS_KITTI_SEQUENCE_IO_H_
 
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/conventions.h"
@@ -40,7 +54,8 @@ struct KittiSequence {
   std::vector<std::string> left_images;   // Full paths, in frame order.
   std::vector<std::string> right_images;  // Same names under image_1.
   std::vector<TimeNs> stamps;             // One per frame.
-  bool has_times = false;                 // Stamps from times.txt.
+  bool has_times = false;                 // Stamps from a file.
+  bool raw_layout = false;                // KITTI raw (image_00/data).
   StereoCalibration calibration;
   std::string calibration_path;
   std::string ground_truth_path;  // DIR/poses.txt when it exists, else "".
@@ -58,6 +73,11 @@ struct KittiSequenceOptions {
 bool ReadKittiSequence(const std::string& dir,
                        const KittiSequenceOptions& options,
                        KittiSequence* sequence, std::string* error);
+
+// One KITTI raw date-time stamp "YYYY-MM-DD HH:MM:SS[.fraction]" (at most
+// 9 fraction digits) as nanoseconds since 1970-01-01 00:00:00 UTC; false if
+// malformed or out of range.
+bool ParseKittiRawTimestamp(std::string_view text, TimeNs* stamp);
 
 // Parses calib.txt alone (the rules above).
 bool ReadKittiStereoCalibration(const std::string& path,

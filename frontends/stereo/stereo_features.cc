@@ -37,6 +37,68 @@ int PatchSad(const cv::Mat& left, const cv::Mat& right, int ul, int ur, int v,
   return sad;
 }
 
+// The sub-pixel shift delta of the right patch centred at (ur + delta, v)
+// that matches the left patch centred at (ul, v): Gauss-Newton on the sum of
+// squared differences of the zero-mean patches, from *delta. Both patches are
+// sampled by linear interpolation, the left at ul - delta / 2 and the right
+// at ur + delta / 2, so that both are blurred alike by the interpolation
+// (interpolating only the right one pulls the estimate towards whole
+// pixels, as the parabola through SAD values does). False if a patch would
+// leave the image, the normal equations are singular or |delta| > 1.
+bool RefineShift(const cv::Mat& left, const cv::Mat& right, int ul, int ur,
+                 int v, int r, double* delta) {
+  if (v - r < 0 || v + r >= left.rows || ul - r - 1 < 0 ||
+      ul + r + 2 >= left.cols || ur - r - 1 < 0 || ur + r + 2 >= right.cols) {
+    return false;
+  }
+  const int n = (2 * r + 1) * (2 * r + 1);
+  std::vector<double> lv(n), lg(n), rv(n), rg(n);
+  // Linear interpolation of row `row` at x0 + c + shift, c in [-r, r].
+  auto sample = [r](const uchar* row, int x0, double shift, double* value,
+                    double* gradient) {
+    const int base = static_cast<int>(std::floor(shift));
+    const double a = shift - base;
+    for (int c = -r; c <= r; ++c) {
+      const int x = x0 + c + base;
+      value[c + r] = (1.0 - a) * row[x] + a * row[x + 1];
+      gradient[c + r] = row[x + 1] - row[x];
+    }
+  };
+  for (int iteration = 0; iteration < 10; ++iteration) {
+    const double d = std::clamp(*delta, -1.0, 1.0);
+    for (int dv = -r; dv <= r; ++dv) {
+      const int k = (dv + r) * (2 * r + 1);
+      sample(left.ptr<uchar>(v + dv), ul, -0.5 * d, &lv[k], &lg[k]);
+      sample(right.ptr<uchar>(v + dv), ur, 0.5 * d, &rv[k], &rg[k]);
+    }
+    double ml = 0, mr = 0, mlg = 0, mrg = 0;
+    for (int k = 0; k < n; ++k) {
+      ml += lv[k];
+      mr += rv[k];
+      mlg += lg[k];
+      mrg += rg[k];
+    }
+    ml /= n;
+    mr /= n;
+    mlg /= n;
+    mrg /= n;
+    double jtj = 0, jte = 0;
+    for (int k = 0; k < n; ++k) {
+      const double e = (lv[k] - ml) - (rv[k] - mr);
+      // d e / d delta: the left moves by -1/2, the right by +1/2.
+      const double j = -0.5 * (lg[k] - mlg) - 0.5 * (rg[k] - mrg);
+      jtj += j * j;
+      jte += j * e;
+    }
+    if (!(jtj > 1e-9)) return false;
+    const double step = -jte / jtj;
+    *delta = d + step;
+    if (std::abs(*delta) > 1.0) return false;
+    if (std::abs(step) < 1e-4) break;
+  }
+  return true;
+}
+
 // The full-image position of an ORB keypoint (see DetectAndDescribe).
 cv::Point2f LevelToImage(const cv::KeyPoint& k, const cv::Size& size,
                          double scale_factor) {
@@ -213,8 +275,11 @@ void StereoFeatureExtractor::MatchStereo(
     const double s1 = sad[best_s + w - 1], s2 = sad[best_s + w],
                  s3 = sad[best_s + w + 1];
     const double denom = 2.0 * (s1 + s3 - 2.0 * s2);
-    const double delta = denom > 0 ? (s1 - s3) / denom : 0.0;
-    if (std::abs(delta) > 1.0) continue;
+    double delta = denom > 0 ? (s1 - s3) / denom : 0.0;
+    if (std::abs(delta) > 1.0 || !RefineShift(left, right, ul, ur0 + best_s, v,
+                                              c.patch_radius, &delta)) {
+      continue;
+    }
     const double disparity = ul - (ur0 + best_s + delta);
     if (!(disparity > 0) || disparity < min_depth_disparity ||
         disparity < c.min_disparity || disparity > max_disparity) {

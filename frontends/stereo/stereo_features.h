@@ -17,8 +17,14 @@
 //     (2 patch_radius + 1)^2 patch around the left keypoint against the
 //     right image at integer shifts within +-search_radius of the matched
 //     position; a parabola through the best shift and its neighbours gives
-//     the sub-pixel disparity (refused when the minimum is at the border of
-//     the search or the parabola moves it by more than a pixel).
+//     a first sub-pixel disparity (refused when the minimum is at the border
+//     of the search or the parabola moves it by more than a pixel), and
+//     Gauss-Newton on the squared differences of the zero-mean patches,
+//     both interpolated by half the shift in opposite directions, refines
+//     it. The parabola through SAD values alone pulls disparities towards
+//     whole pixels (pixel locking: 0.1 px at quarter pixels on the rendered
+//     wall of tests/stereo_features_test.cc), and on far points a
+//     disparity bias is a depth (scale) bias.
 //  4. Depth limit: a stereo match whose depth fx b / d exceeds
 //     max_depth_baselines * b (disparity below fx / max_depth_baselines) is
 //     dropped as a stereo observation; the keypoint stays as a monocular

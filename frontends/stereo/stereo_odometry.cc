@@ -45,6 +45,11 @@ bool ValidateStereoOdometryConfig(const StereoOdometryConfig& c,
   if (!(c.pixel_sigma > 0) || !(c.scale_factor >= 1) || !(c.chi2_stereo > 0) ||
       !(c.chi2_mono > 0))
     return fail("pixel_sigma, chi2 thresholds must be > 0, scale_factor >= 1");
+  if (!(c.close_depth_baselines > 0) || c.far_point_min_keyframes < 2 ||
+      !(c.min_parallax >= 0))
+    return fail(
+        "close_depth_baselines > 0, far_point_min_keyframes >= 2, "
+        "min_parallax >= 0");
   if (c.local_map_keyframes < 1 || !(c.search_radius > 0) ||
       c.max_descriptor_distance < 0 || c.max_descriptor_distance > 256 ||
       !(c.match_ratio > 0 && c.match_ratio <= 1))
@@ -58,12 +63,12 @@ bool ValidateStereoOdometryConfig(const StereoOdometryConfig& c,
     return fail(
         "pnp: reprojection_error > 0, iterations >= 1, ratio in (0, 1]");
   if (!(c.keyframe_tracked_ratio >= 0 && c.keyframe_tracked_ratio <= 1) ||
-      c.keyframe_min_inliers < 0 || !(c.keyframe_depth_fraction > 0) ||
-      !(c.keyframe_rotation > 0) || c.keyframe_max_frames < 1 ||
-      c.min_initial_points < 6)
+      c.keyframe_close_tracked < 0 || c.keyframe_new_close < 0 ||
+      !(c.keyframe_rotation > 0) || c.keyframe_min_frames < 1 ||
+      c.keyframe_max_frames < c.keyframe_min_frames || c.min_initial_points < 6)
     return fail(
-        "keyframes: tracked_ratio in [0, 1], min_inliers >= 0, "
-        "depth_fraction and rotation > 0, max_frames >= 1, "
+        "keyframes: tracked_ratio in [0, 1], close_tracked and new_close "
+        ">= 0, rotation > 0, 1 <= min_frames <= max_frames, "
         "min_initial_points >= 6");
   if (c.min_point_observations < 1 || c.cull_after_keyframes < 0)
     return fail("min_point_observations >= 1, cull_after_keyframes >= 0");
@@ -260,7 +265,7 @@ bool StereoOdometry::MakeObservationFactor(const StereoFeatureFrame& frame,
       config_.pixel_sigma * std::pow(config_.scale_factor, k.octave);
   const double info = 1.0 / (sigma * sigma);
   std::string error;
-  if (frame.HasStereo(keypoint)) {
+  if (IsClose(frame, keypoint)) {
     return MakeStereo(camera, point, calibration_,
                       Eigen::Vector3d(k.pt.x, frame.u_right[keypoint], k.pt.y),
                       info * Eigen::Matrix3d::Identity(), factor, &error);
@@ -268,6 +273,13 @@ bool StereoOdometry::MakeObservationFactor(const StereoFeatureFrame& frame,
   return MakeReprojection(camera, point, pinhole_,
                           Eigen::Vector2d(k.pt.x, k.pt.y),
                           info * Eigen::Matrix2d::Identity(), factor, &error);
+}
+
+bool StereoOdometry::IsClose(const StereoFeatureFrame& frame,
+                             size_t keypoint) const {
+  return frame.HasStereo(keypoint) &&
+         frame.keypoints[keypoint].pt.x - frame.u_right[keypoint] >=
+             calibration_.fx / config_.close_depth_baselines;
 }
 
 double StereoOdometry::Chi2Threshold(const Factor& factor) const {
@@ -289,6 +301,12 @@ int StereoOdometry::OptimizePose(const StereoFeatureFrame& frame,
                           &factors[k]);
   }
   std::vector<bool> inlier(matches->size(), true);
+  // Unconfirmed far points are classified, not used (step 4).
+  std::vector<bool> informs(matches->size());
+  for (size_t k = 0; k < matches->size(); ++k) {
+    informs[k] =
+        !config_.far_points_wait || points_[(*matches)[k].point].confirmed;
+  }
   const ceres::Manifold* manifold = graph_.ManifoldFor(NodeKind::kPose3);
   int inliers = 0;
   for (int round = 0; round < config_.pose_rounds; ++round) {
@@ -298,7 +316,7 @@ int StereoOdometry::OptimizePose(const StereoFeatureFrame& frame,
                               const_cast<ceres::Manifold*>(manifold));
     int used = 0;
     for (size_t k = 0; k < factors.size(); ++k) {
-      if (!inlier[k] || factors[k].cost == nullptr) continue;
+      if (!inlier[k] || !informs[k] || factors[k].cost == nullptr) continue;
       losses.emplace_back(
           new ceres::HuberLoss(std::sqrt(Chi2Threshold(factors[k]))));
       problem.AddResidualBlock(factors[k].cost.get(), losses.back().get(),
@@ -324,7 +342,7 @@ int StereoOdometry::OptimizePose(const StereoFeatureFrame& frame,
       double chi2 = 0;
       for (int i = 0; i < n; ++i) chi2 += r[i] * r[i];
       inlier[k] = ok && chi2 <= Chi2Threshold(factors[k]);
-      inliers += inlier[k];
+      inliers += inlier[k] && informs[k];
     }
   }
   std::vector<Match> kept;
@@ -364,6 +382,23 @@ int64_t StereoOdometry::AddKeyframe(const StereoFeatureFrame& frame,
     graph_.SetLoss(fid, std::make_shared<ceres::HuberLoss>(
                             std::sqrt(Chi2Threshold(*graph_.FindFactor(fid)))));
     points_[point].observations.push_back({id, keypoint, fid});
+    MapPoint& mp = points_[point];
+    if (graph_.FindFactor(fid)->type == FactorType::kStereo) {
+      mp.confirmed = true;
+    } else if (!mp.confirmed && static_cast<int>(mp.observations.size()) >=
+                                    config_.far_point_min_keyframes) {
+      // Triangulable: the rays from the first observing keyframe and this
+      // one differ by at least min_parallax.
+      const Eigen::Vector3d x = PointValue(point);
+      const Eigen::Vector3d a =
+          (x - (mp.observations[0].keyframe == id
+                    ? pose.t
+                    : KeyframePose(mp.observations[0].keyframe).t))
+              .normalized();
+      const Eigen::Vector3d b = (x - pose.t).normalized();
+      mp.confirmed =
+          std::acos(std::clamp(a.dot(b), -1.0, 1.0)) >= config_.min_parallax;
+    }
     frame.descriptors.row(keypoint).copyTo(points_[point].descriptor);
     kf.point_of_keypoint[keypoint] = point;
     return true;
@@ -372,13 +407,11 @@ int64_t StereoOdometry::AddKeyframe(const StereoFeatureFrame& frame,
   // New points from the stereo keypoints without a map point.
   *new_points = 0;
   const Eigen::Matrix3d r = pose.q.toRotationMatrix();
-  std::vector<double> depths;
   for (size_t i = 0; i < frame.size(); ++i) {
     if (!frame.HasStereo(i)) continue;
+    if (kf.point_of_keypoint[i] >= 0) continue;
     const double disparity = frame.keypoints[i].pt.x - frame.u_right[i];
     const double z = calibration_.fx * calibration_.baseline / disparity;
-    depths.push_back(z);
-    if (kf.point_of_keypoint[i] >= 0) continue;
     const Eigen::Vector3d pc(
         (frame.keypoints[i].pt.x - calibration_.cx) * z / calibration_.fx,
         (frame.keypoints[i].pt.y - calibration_.cy) * z / calibration_.fy, z);
@@ -395,11 +428,6 @@ int64_t StereoOdometry::AddKeyframe(const StereoFeatureFrame& frame,
     }
     kf.created_points.push_back(pid);
     ++*new_points;
-  }
-  if (!depths.empty()) {
-    std::nth_element(depths.begin(), depths.begin() + depths.size() / 2,
-                     depths.end());
-    kf.median_depth = depths[depths.size() / 2];
   }
   stats_.points_created += *new_points;
   keyframes_.push_back(std::move(kf));
@@ -466,6 +494,8 @@ void StereoOdometry::LocalBundleAdjustment(int64_t newest) {
     const ceres::Manifold* manifold = graph_.ManifoldFor(NodeKind::kPose3);
     std::vector<int64_t> fixed;
     for (int64_t p : points) {
+      if (!points_[p].confirmed && points_[p].observations.size() < 2)
+        continue;  // Nothing fixes its depth yet.
       for (const Observation& o : points_[p].observations) {
         const Factor* f = graph_.FindFactor(o.factor);
         std::vector<double*> blocks = graph_.ParameterBlocks(*f);
@@ -600,15 +630,30 @@ StereoFrameResult StereoOdometry::AddFrame(const StereoFeatureFrame& frame) {
   const Keyframe& last = keyframes_.back();
   const int64_t last_id = static_cast<int64_t>(keyframes_.size()) - 1;
   int last_points = 0;
-  for (int64_t p : last.point_of_keypoint) last_points += p >= 0;
+  // The reference: the last keyframe's points that were tracked, i.e. that
+  // at least two keyframes observe (ORB-SLAM's nRefMatches), not the ones it
+  // has just created.
+  for (int64_t p : last.point_of_keypoint) {
+    last_points += p >= 0 && point_alive_[p] && points_[p].confirmed &&
+                   points_[p].observations.size() >= 2;
+  }
+  std::vector<bool> tracked(frame.size(), false);
+  for (const Match& m : matches) {
+    tracked[m.keypoint] = true;
+    result.close_tracked += IsClose(frame, m.keypoint);
+  }
+  int close_untracked = 0;
+  for (size_t i = 0; i < frame.size(); ++i) {
+    close_untracked += !tracked[i] && IsClose(frame, i);
+  }
   const Pose3 from_last = KeyframePose(last_id).Inverse() * pose;
+  const bool need = inliers < config_.keyframe_tracked_ratio * last_points ||
+                    (result.close_tracked < config_.keyframe_close_tracked &&
+                     close_untracked > config_.keyframe_new_close);
   const bool make_keyframe =
-      result.lost || inliers < config_.keyframe_min_inliers ||
-      inliers < config_.keyframe_tracked_ratio * last_points ||
-      from_last.t.norm() >
-          config_.keyframe_depth_fraction * last.median_depth ||
+      result.lost || frames_since_keyframe_ >= config_.keyframe_max_frames ||
       RotationAngle(from_last) > config_.keyframe_rotation ||
-      frames_since_keyframe_ >= config_.keyframe_max_frames;
+      (frames_since_keyframe_ >= config_.keyframe_min_frames && need);
   result.tracking_ms = stereo::MillisecondsSince(start);
   if (make_keyframe) {
     const auto ba_start = std::chrono::steady_clock::now();
@@ -629,6 +674,15 @@ StereoFrameResult StereoOdometry::AddFrame(const StereoFeatureFrame& frame) {
 
 void StereoOdometry::Finish() {
   for (size_t p = 0; p < points_.size(); ++p) {
+    // Far points seen by too few keyframes to be triangulated first.
+    if (point_alive_[p] && !points_[p].confirmed) {
+      while (point_alive_[p]) {
+        RemoveObservation(static_cast<int64_t>(p),
+                          points_[p].observations.size() - 1);
+        --stats_.observations_removed;
+      }
+      ++stats_.points_culled;
+    }
     CullPoint(static_cast<int64_t>(p));
   }
   RemoveDeadPoints();

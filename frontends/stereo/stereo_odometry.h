@@ -22,28 +22,47 @@
 //     round every match is classified by the chi2 test of its whitened
 //     error (chi2_stereo for 3 dof, chi2_mono for 2) and only inliers
 //     enter the next round (ORB-SLAM's PoseOptimization). Pixel noise:
-//     pixel_sigma * 1.2^octave.
+//     pixel_sigma * 1.2^octave. Close and far (ORB-SLAM2's stereo rule): a
+//     stereo keypoint deeper than close_depth_baselines baselines is a
+//     monocular observation everywhere (tracking and bundle adjustment), as
+//     its disparity, a few pixels, tells the depth only to within its
+//     sub-pixel errors (a bias of 0.1 px is 1 % of depth at 5 px, and
+//     scales the path by as much when such points dominate). A point made
+//     from a far keypoint is unconfirmed: it is matched, and its matches
+//     become keyframe observations, but it does not enter this refinement
+//     until far_point_min_keyframes keyframes observe it with rays at least
+//     min_parallax apart (the local bundle adjustment triangulates it from
+//     their views) or a close stereo observation fixes its depth; with
+//     far_points_wait false (the default) it is used at once, as a
+//     monocular observation (it then mostly fixes rotation). Unconfirmed
+//     points are removed before the global bundle adjustment.
 //  5. Fallback when fewer than min_inliers matches survive: the frame's
 //     descriptors are matched to the local map's by brute force (ratio
 //     test), cv::solvePnPRansac estimates the pose from those 3D-2D pairs,
 //     and steps 3-4 run again from it with search_radius / 2. If that fails
 //     too the frame keeps the prediction (counted as lost) and becomes a
 //     keyframe, so that the map restarts from its stereo points.
-//  6. Keyframe decision: a new keyframe when the inliers drop below
+//  6. Keyframe decision, by need (ORB-SLAM2's rules without its idle
+//     local-mapping condition): a new keyframe when the frame is lost, or
+//     keyframe_max_frames frames passed since the last keyframe, or the
+//     camera turned more than keyframe_rotation from it, or, once
+//     keyframe_min_frames frames passed, when the inliers drop below
 //     keyframe_tracked_ratio times the map points the last keyframe
-//     observes, or below keyframe_min_inliers, or the camera moved more
-//     than keyframe_depth_fraction times the median depth of the last
-//     keyframe's points or turned more than keyframe_rotation, or
-//     keyframe_max_frames frames passed.
+//     observes, or when fewer than keyframe_close_tracked close points are
+//     tracked while more than keyframe_new_close close stereo keypoints
+//     could be added (new structure).
 //  7. Keyframe: its inlier matches become factors; its stereo keypoints
 //     without a map point (closer than the feature extractor's depth limit)
-//     become new map points, triangulated from the stereo pair. A point
+//     become new map points, triangulated from the stereo pair (the far ones
+//     unconfirmed, see step 4). A point
 //     that min_point_observations keyframes do not observe by the time
 //     cull_after_keyframes more keyframes exist is removed (an unconfirmed
 //     point: a wrong stereo match, or a feature that did not repeat).
 //  8. Local bundle adjustment over the last window_keyframes keyframes and
 //     every point they observe (Schur complement, points eliminated first);
-//     the other keyframes that observe those points enter held fixed, as
+//     unconfirmed points seen by one keyframe only are left out (nothing
+//     fixes their depth); the other keyframes that observe those points
+//     enter held fixed, as
 //     ORB-SLAM's local BA does (marginalizing them instead would turn
 //     thousands of point observations into dense priors between the window's
 //     poses at every keyframe). Observations that fail the chi2 test or lie
@@ -80,6 +99,11 @@ struct StereoOdometryConfig {
   double scale_factor = 1.2;   // Of the feature pyramid.
   double chi2_stereo = 7.815;  // 95 % of chi2 with 3 dof.
   double chi2_mono = 5.991;    // 95 % of chi2 with 2 dof.
+  // Close and far points (step 4): ORB-SLAM2's 40 baselines.
+  double close_depth_baselines = 40.0;
+  int far_point_min_keyframes = 3;
+  double min_parallax = 0.02;  // rad (ORB-SLAM: cos 0.9998, 1.1 deg).
+  bool far_points_wait = false;
   // Tracking.
   int local_map_keyframes = 10;
   double search_radius = 15.0;  // Pixels at octave 0.
@@ -92,11 +116,12 @@ struct StereoOdometryConfig {
   double pnp_reprojection_error = 3.0;  // Pixels.
   int pnp_iterations = 300;
   double pnp_ratio = 0.8;  // Brute-force matching ratio test.
-  // Keyframes.
-  double keyframe_tracked_ratio = 0.8;
-  int keyframe_min_inliers = 100;
-  double keyframe_depth_fraction = 0.1;
+  // Keyframes (step 6).
+  double keyframe_tracked_ratio = 0.75;  // ORB-SLAM2 (stereo).
+  int keyframe_close_tracked = 20;       // ORB-SLAM2: 100 (and 70 new).
+  int keyframe_new_close = 70;
   double keyframe_rotation = 0.17;  // rad (about 10 deg).
+  int keyframe_min_frames = 2;
   int keyframe_max_frames = 10;
   int min_initial_points = 50;  // Stereo points to start the map.
   // Map point culling.
@@ -121,6 +146,7 @@ struct StereoFrameResult {
   bool initialized = false;  // The map exists after this frame.
   bool keyframe = false;
   int new_points = 0;
+  int close_tracked = 0;  // Inliers at close stereo keypoints.
   double tracking_ms = 0.0;
   double local_ba_ms = 0.0;
 };
@@ -203,6 +229,9 @@ class StereoOdometry {
     std::vector<Observation> observations;
     int64_t local_stamp = -1;     // Frame that last put it into a local map.
     int64_t anchor_keyframe = 0;  // The keyframe that created it.
+    // Its depth is known: from a close stereo observation, or triangulated
+    // by far_point_min_keyframes keyframes (step 4).
+    bool confirmed = false;
   };
   struct Keyframe {
     int64_t frame_index = 0;
@@ -210,7 +239,6 @@ class StereoOdometry {
     StereoFeatureFrame features;
     std::vector<int64_t> point_of_keypoint;  // -1: none.
     std::vector<int64_t> created_points;
-    double median_depth = 0.0;
   };
   struct FrameRecord {
     int64_t index = 0;
@@ -244,6 +272,8 @@ class StereoOdometry {
                              const Key& camera, const Key& point,
                              Factor* factor) const;
   double Chi2Threshold(const Factor& factor) const;
+  // A stereo keypoint within close_depth_baselines.
+  bool IsClose(const StereoFeatureFrame& frame, size_t keypoint) const;
   int64_t AddKeyframe(const StereoFeatureFrame& frame, const Pose3& pose,
                       const std::vector<Match>& matches, int* new_points);
   void LocalBundleAdjustment(int64_t newest_keyframe);

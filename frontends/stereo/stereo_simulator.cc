@@ -94,6 +94,12 @@ StereoSimulation SimulateStereo(const StereoSimulationConfig& c) {
       u += c.pixel_sigma * noise(rng);
       v += c.pixel_sigma * noise(rng);
       ur += c.pixel_sigma * noise(rng);
+      double disparity = u - ur + c.disparity_bias;
+      if (c.disparity_quantum > 0) {
+        disparity =
+            c.disparity_quantum * std::round(disparity / c.disparity_quantum);
+      }
+      ur = u - disparity;
       bool is_outlier = false;
       cv::Mat d = descriptors[p].clone();
       for (int b = 0; b < c.descriptor_flips; ++b) {

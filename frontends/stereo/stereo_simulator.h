@@ -16,6 +16,11 @@
 // [min_depth, max_depth]) inside the image, plus Gaussian pixel noise of
 // pixel_sigma (u, v and the right image's u independently); the octave is
 // 0. Stereo u_right is given when the disparity is at least 1 pixel.
+// Disparity errors as a stereo matcher makes them (after the pixel noise):
+// a systematic disparity_bias (pixels added to every disparity: a sub-pixel
+// interpolation bias, or a small offset between the rectified images) and a
+// quantization of the disparity to multiples of disparity_quantum pixels
+// (0: none), both applied through u_right.
 // Outliers: for a fraction of the keypoints a spurious keypoint with the
 // same descriptor appears at a random place of the image with a random
 // disparity (a wrong association by appearance; its true point is -1), and
@@ -49,6 +54,8 @@ struct StereoSimulationConfig {
   double min_height = -4.0, max_height = 2.0;
   double min_depth = 1.0, max_depth = 60.0;
   double pixel_sigma = 0.0;
+  double disparity_bias = 0.0;     // Pixels.
+  double disparity_quantum = 0.0;  // Pixels; 0: not quantized.
   int descriptor_flips = 4;
   double outlier_fraction = 0.0;         // Spurious keypoints.
   double stereo_outlier_fraction = 0.0;  // Wrong right u.
