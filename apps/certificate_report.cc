@@ -21,10 +21,12 @@ void PrintCertificate(const CertificateResult& c) {
   std::printf(
       "certificate (isotropic objective, not the g2o chi2): %s, lambda_min "
       "%.6g (delta %.3g, rank %d), isotropic objective %.10g, lower bound "
-      "%.10g, suboptimality bound %.3g (%.3f s)\n",
+      "%.10g, suboptimality bound %.3g (%.3f s: refining %d iterations "
+      "%.3f s, lambda_min %.3f s, %d factorizations)\n",
       c.certified ? "CERTIFIED globally optimal" : "NOT certified",
       c.lambda_min, c.delta, c.rank, c.objective, c.lower_bound,
-      c.suboptimality_bound, c.seconds);
+      c.suboptimality_bound, c.seconds, c.refine_iterations, c.refine_seconds,
+      c.eigen_seconds, c.factorizations);
 }
 
 }  // namespace
@@ -69,9 +71,10 @@ bool CertifyIfAsked(Graph* graph, const OptimizerOptions& options,
       escape_chi2 = again.final_chi2;
       summary->iterations += again.iterations;
       summary->solve_seconds += again.solve_seconds;
-      std::printf("LM from the rounded solution: chi2 %.10g in %d iterations "
-                  "(LM from the start had %.10g)\n",
-                  again.final_chi2, again.iterations, chi2_before);
+      std::printf(
+          "LM from the rounded solution: chi2 %.10g in %d iterations "
+          "(LM from the start had %.10g)\n",
+          again.final_chi2, again.iterations, chi2_before);
       if (again.usable && again.final_chi2 < chi2_before) {
         escaped = true;
         summary->final_chi2 = again.final_chi2;
@@ -109,6 +112,9 @@ bool CertifyIfAsked(Graph* graph, const OptimizerOptions& options,
       .Add("max_rotation_difference_rad", c.max_rotation_difference)
       .Add("rms_translation_difference", c.rms_translation_difference)
       .Add("rank", c.rank)
+      .Add("refine_iterations", c.refine_iterations)
+      .Add("refine_seconds", c.refine_seconds)
+      .Add("eigen_seconds", c.eigen_seconds)
       .Add("escaped", escaped)
       .Add("seconds", seconds);
   if (escaped) {

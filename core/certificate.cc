@@ -8,6 +8,7 @@
 #include <memory>
 #include <numeric>
 
+#include <Spectra/SymEigsShiftSolver.h>
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
@@ -15,7 +16,6 @@
 #include <Eigen/QR>
 #include <Eigen/SVD>
 #include <Eigen/SparseCholesky>
-#include <Spectra/SymEigsShiftSolver.h>
 
 #include "ceres/ceres.h"
 #include "core/lie.h"
@@ -27,8 +27,7 @@ using SpMat = Eigen::SparseMatrix<double>;
 using Triplets = std::vector<Eigen::Triplet<double>>;
 
 double SecondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() -
-                                       start)
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
       .count();
 }
 
@@ -91,8 +90,8 @@ class RotationMatrixManifold final : public ceres::Manifold {
   bool PlusJacobian(const double* x, double* jacobian) const override {
     Eigen::Map<const Eigen::MatrixXd> xm(x, r_, r_);
     const int t = TangentSize();
-    Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic,
-                             Eigen::RowMajor>>
+    Eigen::Map<
+        Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>
         jac(jacobian, r_ * r_, t);
     jac.setZero();
     // d(X G_k) with G_k = E_ab - E_ba: column b gets X.col(a), column a
@@ -112,9 +111,11 @@ class RotationMatrixManifold final : public ceres::Manifold {
     const Eigen::MatrixXd m = xm.transpose() * ym;
     const Eigen::MatrixXd eye = Eigen::MatrixXd::Identity(r_, r_);
     // Inverse Cayley: A = 2 (M - I)(M + I)^-1.
-    const Eigen::MatrixXd a =
-        2.0 * (m + eye).transpose().partialPivLu().solve((m - eye).transpose())
-                  .transpose();
+    const Eigen::MatrixXd a = 2.0 * (m + eye)
+                                        .transpose()
+                                        .partialPivLu()
+                                        .solve((m - eye).transpose())
+                                        .transpose();
     for (size_t k = 0; k < pairs_.size(); ++k) {
       const auto [p, q] = pairs_[k];
       y_minus_x[k] = 0.5 * (a(p, q) - a(q, p));
@@ -124,8 +125,8 @@ class RotationMatrixManifold final : public ceres::Manifold {
   bool MinusJacobian(const double* x, double* jacobian) const override {
     Eigen::Map<const Eigen::MatrixXd> xm(x, r_, r_);
     const int t = TangentSize();
-    Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic,
-                             Eigen::RowMajor>>
+    Eigen::Map<
+        Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>
         jac(jacobian, t, r_ * r_);
     jac.setZero();
     for (int k = 0; k < t; ++k) {
@@ -181,8 +182,8 @@ class IsotropicEdgeCost final : public ceres::CostFunction {
     tra = st_ * (tj - ti - qi.leftCols(d) * tm_);
     if (jacobians == nullptr) return true;
     const int rows = r * d + r;
-    using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic,
-                                   Eigen::RowMajor>;
+    using RowMajor =
+        Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
     if (jacobians[0] != nullptr) {
       Eigen::Map<RowMajor> jac(jacobians[0], rows, r * r);
       jac.setZero();
@@ -404,8 +405,9 @@ bool BuildIsotropicProblem(const Graph& graph, IsotropicProblem* problem,
                   : key.kind == NodeKind::kPose3 ? 3
                                                  : 0;
     if (d == 0 || (problem->d != 0 && d != problem->d)) {
-      *error = "the certificate needs a pose graph of SE(2) or of SE(3) "
-               "nodes only";
+      *error =
+          "the certificate needs a pose graph of SE(2) or of SE(3) "
+          "nodes only";
       return false;
     }
     problem->d = d;
@@ -428,8 +430,9 @@ bool BuildIsotropicProblem(const Graph& graph, IsotropicProblem* problem,
     const bool between2 = factor.type == FactorType::kBetweenSE2 && d == 2;
     const bool between3 = factor.type == FactorType::kBetweenSE3 && d == 3;
     if (!between2 && !between3) {
-      *error = std::string("the certificate covers relative-pose factors "
-                           "only, not ") +
+      *error = std::string(
+                   "the certificate covers relative-pose factors "
+                   "only, not ") +
                FactorTypeName(factor.type);
       return false;
     }
@@ -492,8 +495,7 @@ SpMat IsotropicDataMatrix(const IsotropicProblem& p) {
 }
 
 void GraphRotations(const Graph& graph, const IsotropicProblem& p,
-                    Eigen::MatrixXd* rotations,
-                    Eigen::MatrixXd* translations) {
+                    Eigen::MatrixXd* rotations, Eigen::MatrixXd* translations) {
   const int d = p.d, n = static_cast<int>(p.nodes.size());
   rotations->resize(d, d * n);
   translations->resize(d, n);
@@ -574,6 +576,7 @@ bool CertifyRotations(const IsotropicProblem& p, const SpMat& m,
   const int d = p.d, n = static_cast<int>(p.nodes.size());
   ReducedBlocks b;
   if (!SplitDataMatrix(m, n, d, &b, error)) return false;
+  const auto start = std::chrono::steady_clock::now();
   const std::vector<Eigen::MatrixXd> lambda = LambdaBlocks(b, y);
   double f = 0.0;
   for (const Eigen::MatrixXd& l : lambda) f += l.trace();
@@ -617,6 +620,7 @@ bool CertifyRotations(const IsotropicProblem& p, const SpMat& m,
   result->eigenvector = eigs.eigenvectors(1).col(0);
   result->lower_bound = f + d * n * std::min(result->lambda_min, 0.0);
   result->suboptimality_bound = f - result->lower_bound;
+  result->eigen_seconds += SecondsSince(start);
   return true;
 }
 
@@ -634,18 +638,20 @@ bool CertifyGraph(const Graph& graph, const CertificateOptions& options,
   y << translations, rotations;
   result->start_objective = (y * m * y.transpose()).trace();
   const Eigen::MatrixXd given = y;
+  const auto refine_start = std::chrono::steady_clock::now();
   result->refine_iterations =
       RefineIsotropic(p, options.max_refine_iterations, &y);
+  result->refine_seconds = SecondsSince(refine_start);
   double sum_sq = 0.0;
   for (int i = 0; i < n; ++i) {
-    const Eigen::MatrixXd rel = given.middleCols(n + d * i, d).transpose() *
-                                y.middleCols(n + d * i, d);
+    const Eigen::MatrixXd rel =
+        given.middleCols(n + d * i, d).transpose() * y.middleCols(n + d * i, d);
     const double c = std::clamp((rel.trace() - (d - 2)) / 2.0, -1.0, 1.0);
     result->max_rotation_difference =
         std::max(result->max_rotation_difference, std::acos(c));
     // Translations relative to node 0, which refining held fixed.
-    sum_sq += ((given.col(i) - given.col(0)) - (y.col(i) - y.col(0)))
-                  .squaredNorm();
+    sum_sq +=
+        ((given.col(i) - given.col(0)) - (y.col(i) - y.col(0))).squaredNorm();
   }
   result->rms_translation_difference = std::sqrt(sum_sq / n);
   const bool ok =
@@ -739,9 +745,8 @@ bool SolveIsotropicGlobally(Graph* graph, const CertificateOptions& options,
   for (int i = 0; i < n; ++i) {
     if (graph->FindNode(p.nodes[i])->fixed) anchor = i;
   }
-  const Eigen::MatrixXd g_rot =
-      rotations.middleCols(d * anchor, d) *
-      rounded.middleCols(d * anchor, d).transpose();
+  const Eigen::MatrixXd g_rot = rotations.middleCols(d * anchor, d) *
+                                rounded.middleCols(d * anchor, d).transpose();
   const Eigen::VectorXd g_tra =
       translations.col(anchor) - g_rot * t.col(anchor);
   for (int i = 0; i < n; ++i) {

@@ -4,7 +4,8 @@
 // over the special Euclidean group", IJRR 2019). Written from the paper.
 //
 // The certified problem is the ISOTROPIC approximation of the pose graph:
-//   f(t, R) = sum_e kappa_e |R_j - R_i Rm_e|_F^2 + tau_e |t_j - t_i - R_i tm_e|^2
+//   f(t, R) = sum_e kappa_e |R_j - R_i Rm_e|_F^2 + tau_e |t_j - t_i - R_i
+//   tm_e|^2
 // over R_i in SO(d), t_i in R^d, with one scalar kappa (rotation) and tau
 // (translation) per relative-pose factor taken from its information matrix
 // as SE-Sync's g2o loader does (IsotropicWeightsFromInformation). This is
@@ -98,8 +99,10 @@ struct CertificateResult {
   double start_objective = 0.0;      // f at the values given (before refining).
   int rank = 0;                      // Rank of the relaxation certified.
   int refine_iterations = 0;
-  int factorizations = 0;            // Of K, for the eigenvalue search.
+  int factorizations = 0;  // Of K, for the eigenvalue search.
   double seconds = 0.0;
+  double refine_seconds = 0.0;  // Of which refining to a critical point.
+  double eigen_seconds = 0.0;   // ... and finding lambda_min.
   // The given values against the refined critical point of f (rank d only):
   // largest rotation difference (radians) and RMS translation difference.
   double max_rotation_difference = 0.0;
