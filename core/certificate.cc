@@ -554,9 +554,14 @@ int RefineIsotropic(const IsotropicProblem& p, int max_iterations,
   ceres::Solver::Options options;
   options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
   options.max_num_iterations = max_iterations;
-  options.function_tolerance = 1e-15;
-  options.gradient_tolerance = 1e-14;
-  options.parameter_tolerance = 1e-15;
+  // Near a critical point from the g2o solution: Gauss-Newton steps (a
+  // large first radius) converge in a few iterations; the tolerances are
+  // the relative decrease and step that leave the certificate's lambda_min
+  // at rounding level (its suboptimality bound is ~1e-10 f).
+  options.initial_trust_region_radius = 1e12;
+  options.function_tolerance = 1e-13;
+  options.gradient_tolerance = 1e-12;
+  options.parameter_tolerance = 1e-12;
   options.logging_type = ceres::SILENT;
   options.num_threads = 1;
   ceres::Solver::Summary summary;
@@ -568,6 +573,143 @@ int RefineIsotropic(const IsotropicProblem& p, int max_iterations,
     y->col(i) = Eigen::Map<const Eigen::VectorXd>(tra.data() + i * r, r);
   }
   return static_cast<int>(summary.iterations.size()) - 1;
+}
+
+namespace {
+
+// The isotropic objective at rank-d values y ([t | R], d x (n + d n)).
+double EdgeObjective(const IsotropicProblem& p, const Eigen::MatrixXd& y) {
+  const int d = p.d, n = static_cast<int>(p.nodes.size());
+  double f = 0.0;
+  for (const IsotropicEdge& e : p.edges) {
+    const auto ri = y.middleCols(n + d * e.i, d);
+    f += e.w.kappa * (y.middleCols(n + d * e.j, d) - ri * e.R).squaredNorm() +
+         e.w.tau * (y.col(e.j) - y.col(e.i) - ri * e.t).squaredNorm();
+  }
+  return f;
+}
+
+// Generators of so(d): 2D one, 3D the hat of the unit vectors.
+std::vector<Eigen::MatrixXd> Generators(int d) {
+  std::vector<Eigen::MatrixXd> g;
+  if (d == 2) {
+    g.push_back((Eigen::MatrixXd(2, 2) << 0, -1, 1, 0).finished());
+  } else {
+    for (int k = 0; k < 3; ++k) {
+      g.push_back(Skew<double>(Eigen::Vector3d::Unit(k)));
+    }
+  }
+  return g;
+}
+
+}  // namespace
+
+int NewtonRefine(const IsotropicProblem& p, const SpMat& m, int max_iterations,
+                 Eigen::MatrixXd* y) {
+  const int d = p.d, n = static_cast<int>(p.nodes.size());
+  const std::vector<Eigen::MatrixXd> gens = Generators(d);
+  const int q = static_cast<int>(gens.size());
+  const int block = d + q;  // Per free node: translation, then rotation.
+  const int cols = block * (n - 1);
+  const int rows_per_edge = d * d + d;
+  double f = EdgeObjective(p, *y);
+  int it = 0;
+  for (; it < max_iterations; ++it) {
+    Triplets jac;
+    Eigen::VectorXd r(rows_per_edge * p.edges.size());
+    for (size_t k = 0; k < p.edges.size(); ++k) {
+      const IsotropicEdge& e = p.edges[k];
+      const double sk = std::sqrt(e.w.kappa), st = std::sqrt(e.w.tau);
+      const Eigen::MatrixXd ri = y->middleCols(n + d * e.i, d);
+      const Eigen::MatrixXd rj = y->middleCols(n + d * e.j, d);
+      const int row = rows_per_edge * static_cast<int>(k);
+      Eigen::Map<Eigen::MatrixXd>(r.data() + row, d, d) = sk * (rj - ri * e.R);
+      r.segment(row + d * d, d) = st * (y->col(e.j) - y->col(e.i) - ri * e.t);
+      // Columns of node i's variables (node 0 is held).
+      auto col = [&](int node, int c) { return block * (node - 1) + c; };
+      for (int g = 0; g < q; ++g) {
+        if (e.i > 0) {
+          const Eigen::MatrixXd dr = -sk * ri * gens[g] * e.R;
+          const Eigen::VectorXd dt = -st * ri * gens[g] * e.t;
+          for (int a = 0; a < d * d; ++a) {
+            jac.emplace_back(row + a, col(e.i, d + g), dr(a));
+          }
+          for (int a = 0; a < d; ++a) {
+            jac.emplace_back(row + d * d + a, col(e.i, d + g), dt(a));
+          }
+        }
+        if (e.j > 0) {
+          const Eigen::MatrixXd dr = sk * rj * gens[g];
+          for (int a = 0; a < d * d; ++a) {
+            jac.emplace_back(row + a, col(e.j, d + g), dr(a));
+          }
+        }
+      }
+      for (int a = 0; a < d; ++a) {
+        if (e.i > 0) jac.emplace_back(row + d * d + a, col(e.i, a), -st);
+        if (e.j > 0) jac.emplace_back(row + d * d + a, col(e.j, a), st);
+      }
+    }
+    SpMat j(r.size(), cols);
+    j.setFromTriplets(jac.begin(), jac.end());
+    SpMat h = SpMat(j.transpose()) * j;
+    const Eigen::VectorXd g = j.transpose() * r;
+    // Second-order term of the retraction: sum_i tr(W_i^2 Lambda_i) with
+    // Lambda_i = sym(P_i R_i), P = M Y^T: -tr(Lambda) (2D), Lambda -
+    // tr(Lambda) I (3D) in the generators' coordinates.
+    const Eigen::MatrixXd pm = m * y->transpose();
+    Triplets extra;
+    for (int i = 1; i < n; ++i) {
+      const Eigen::MatrixXd pr =
+          pm.middleRows(n + d * i, d) * y->middleCols(n + d * i, d);
+      const Eigen::MatrixXd lambda = 0.5 * (pr + pr.transpose());
+      const Eigen::MatrixXd hl =
+          d == 2
+              ? Eigen::MatrixXd::Constant(1, 1, -lambda.trace())
+              : Eigen::MatrixXd(lambda - lambda.trace() *
+                                             Eigen::MatrixXd::Identity(3, 3));
+      for (int a = 0; a < q; ++a) {
+        for (int b = 0; b < q; ++b) {
+          extra.emplace_back(block * (i - 1) + d + a, block * (i - 1) + d + b,
+                             hl(a, b));
+        }
+      }
+    }
+    SpMat hx(cols, cols);
+    hx.setFromTriplets(extra.begin(), extra.end());
+    h += hx;
+    Eigen::SimplicialLDLT<SpMat> ldlt(h);
+    if (ldlt.info() != Eigen::Success) return -1;
+    const Eigen::VectorXd step = ldlt.solve(-g);
+    if (!step.allFinite()) return -1;
+    // Retraction R_i Exp(W_i), with backtracking on f.
+    bool accepted = false;
+    for (double alpha = 1.0; alpha > 1e-3 && !accepted; alpha *= 0.5) {
+      Eigen::MatrixXd trial = *y;
+      for (int i = 1; i < n; ++i) {
+        const Eigen::VectorXd s = alpha * step.segment(block * (i - 1), block);
+        trial.col(i) += s.head(d);
+        Eigen::MatrixXd rot;
+        if (d == 2) {
+          rot = RotationMatrix2D(s(2));
+        } else {
+          rot = QuaternionExp<double>(Eigen::Vector3d(s.tail(3)))
+                    .toRotationMatrix();
+        }
+        trial.middleCols(n + d * i, d) = y->middleCols(n + d * i, d) * rot;
+      }
+      const double f_trial = EdgeObjective(p, trial);
+      if (f_trial <= f) {
+        const double decrease = f - f_trial;
+        *y = trial;
+        f = f_trial;
+        accepted = true;
+        if (decrease <= 1e-15 * f) return it + 1;
+      }
+    }
+    if (!accepted) return it;  // No decrease left: at rounding level.
+  }
+  return it;
 }
 
 bool CertifyRotations(const IsotropicProblem& p, const SpMat& m,
@@ -640,7 +782,12 @@ bool CertifyGraph(const Graph& graph, const CertificateOptions& options,
   const Eigen::MatrixXd given = y;
   const auto refine_start = std::chrono::steady_clock::now();
   result->refine_iterations =
-      RefineIsotropic(p, options.max_refine_iterations, &y);
+      NewtonRefine(p, m, options.max_refine_iterations, &y);
+  if (result->refine_iterations < 0) {
+    y = given;
+    result->refine_iterations =
+        RefineIsotropic(p, options.max_refine_iterations, &y);
+  }
   result->refine_seconds = SecondsSince(refine_start);
   double sum_sq = 0.0;
   for (int i = 0; i < n; ++i) {

@@ -128,6 +128,15 @@ Eigen::MatrixXd DenseCertificateMatrix(const Eigen::SparseMatrix<double>& M,
 int RefineIsotropic(const IsotropicProblem& p, int max_iterations,
                     Eigen::MatrixXd* Y);
 
+// Rank d only: Riemannian Newton steps on f (translations and rotations,
+// node 0 held; the exact Hessian, with the curvature term of the rotations'
+// retraction that Gauss-Newton leaves out and without which it converges
+// only linearly), with backtracking. Returns the iterations, or -1 when
+// the Newton system cannot be solved (far from a minimum).
+int NewtonRefine(const IsotropicProblem& p,
+                 const Eigen::SparseMatrix<double>& m, int max_iterations,
+                 Eigen::MatrixXd* y);
+
 // Certifies the graph's current values: refines them to a critical point
 // of f (rank d) and certifies that.
 bool CertifyGraph(const Graph& graph, const CertificateOptions& options,
