@@ -10,6 +10,7 @@
 
 #include <Spectra/SymEigsShiftSolver.h>
 #include <Eigen/Cholesky>
+#include <Eigen/CholmodSupport>
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <Eigen/LU>
@@ -336,18 +337,34 @@ class ShiftedCertificateOp {
     }
     SpMat k(nt + d * b_.n, nt + d * b_.n);
     k.setFromTriplets(triplets.begin(), triplets.end());
-    factor_.compute(k);
     ++factorizations_;
+    // A Cholesky factor exists iff K(sigma) > 0, i.e. S > sigma I (the
+    // usual case: certified, or sigma below lambda_min); CHOLMOD's
+    // supernodal one is fast on dense 3D factors. Else LDL^T counts the
+    // negative pivots.
+    llt_ok_ = false;
+    llt_.compute(k);
+    if (llt_.info() == Eigen::Success) {
+      llt_ok_ = true;
+      return;
+    }
+    factor_.compute(k);
   }
-  bool ok() const { return factor_.info() == Eigen::Success; }
+  bool ok() const { return llt_ok_ || factor_.info() == Eigen::Success; }
   int NegativePivots() const {
+    if (llt_ok_) return 0;
     return static_cast<int>((factor_.vectorD().array() < 0.0).count());
   }
   void perform_op(const double* x_in, double* y_out) const {
     const int nt = b_.n - 1;
     Eigen::VectorXd rhs = Eigen::VectorXd::Zero(nt + rows());
     rhs.tail(rows()) = Eigen::Map<const Eigen::VectorXd>(x_in, rows());
-    const Eigen::VectorXd sol = factor_.solve(rhs);
+    Eigen::VectorXd sol;
+    if (llt_ok_) {
+      sol = llt_.solve(rhs);
+    } else {
+      sol = factor_.solve(rhs);
+    }
     Eigen::Map<Eigen::VectorXd>(y_out, rows()) = sol.tail(rows());
   }
   int factorizations() const { return factorizations_; }
@@ -356,6 +373,8 @@ class ShiftedCertificateOp {
   const ReducedBlocks& b_;
   const std::vector<Eigen::MatrixXd>& lambda_;
   Eigen::SimplicialLDLT<SpMat> factor_;
+  Eigen::CholmodSupernodalLLT<SpMat> llt_;
+  bool llt_ok_ = false;
   double shift_ = 0.0;
   int factorizations_ = 0;
 };
@@ -678,10 +697,21 @@ int NewtonRefine(const IsotropicProblem& p, const SpMat& m, int max_iterations,
     SpMat hx(cols, cols);
     hx.setFromTriplets(extra.begin(), extra.end());
     h += hx;
-    Eigen::SimplicialLDLT<SpMat> ldlt(h);
-    if (ldlt.info() != Eigen::Success) return -1;
-    const Eigen::VectorXd step = ldlt.solve(-g);
+    // Near a minimum the Hessian is positive definite: CHOLMOD's
+    // supernodal Cholesky (dense factors of 3D graphs); else LDL^T.
+    Eigen::VectorXd step;
+    Eigen::CholmodSupernodalLLT<SpMat> llt(h);
+    if (llt.info() == Eigen::Success) {
+      step = llt.solve(-g);
+    } else {
+      Eigen::SimplicialLDLT<SpMat> ldlt(h);
+      if (ldlt.info() != Eigen::Success) return -1;
+      step = ldlt.solve(-g);
+    }
     if (!step.allFinite()) return -1;
+    // The model's decrease g^T H^-1 g: at rounding level, converged.
+    const double predicted = -g.dot(step);
+    if (predicted >= 0.0 && predicted <= 1e-13 * f) return it;
     // Retraction R_i Exp(W_i), with backtracking on f.
     bool accepted = false;
     for (double alpha = 1.0; alpha > 1e-3 && !accepted; alpha *= 0.5) {
