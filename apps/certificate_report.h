@@ -16,7 +16,8 @@ namespace slam {
 // that fails and --global is auto, runs the staircase, LM on the full
 // objective from its rounded solution (counted in *summary), keeps the
 // better of the two LM solutions by chi2 and certifies again. Fills *json
-// with the certificate block. False with *error on a failure to run.
+// with the certificate block (not_available: why, on graphs it does not
+// cover: the solve stands). False with *error on a failure to run.
 bool CertifyIfAsked(Graph* graph, const OptimizerOptions& options,
                     OptimizerSummary* summary, JsonObject* json,
                     std::string* error);

@@ -343,6 +343,7 @@ class ShiftedCertificateOp {
     // supernodal one is fast on dense 3D factors. Else LDL^T counts the
     // negative pivots.
     llt_ok_ = false;
+    llt_.cholmod().print = 0;
     llt_.compute(k);
     if (llt_.info() == Eigen::Success) {
       llt_ok_ = true;
@@ -700,7 +701,9 @@ int NewtonRefine(const IsotropicProblem& p, const SpMat& m, int max_iterations,
     // Near a minimum the Hessian is positive definite: CHOLMOD's
     // supernodal Cholesky (dense factors of 3D graphs); else LDL^T.
     Eigen::VectorXd step;
-    Eigen::CholmodSupernodalLLT<SpMat> llt(h);
+    Eigen::CholmodSupernodalLLT<SpMat> llt;
+    llt.cholmod().print = 0;  // "Not positive definite" is an answer here.
+    llt.compute(h);
     if (llt.info() == Eigen::Success) {
       step = llt.solve(-g);
     } else {
