@@ -82,7 +82,7 @@ const std::map<std::string, Command>& Commands() {
       {"optimize",
        {slam::RunOptimizeCommand,
         "optimize a pose graph: slam optimize -i IN -o OUT [--init ...]",
-        {"optimize_command.cc"},
+        {"optimize_command.cc", "certificate_report.cc"},
         {"config", "dump_config", "report", "plot", "gt"}}},
       {"info",
        {slam::RunInfoCommand,

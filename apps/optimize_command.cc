@@ -9,6 +9,7 @@
 
 #include <gflags/gflags.h>
 
+#include "apps/certificate_report.h"
 #include "apps/commands.h"
 #include "apps/common_flags.h"
 #include "apps/eval_report.h"
@@ -274,6 +275,12 @@ int RunOptimizeCommand(const std::vector<std::string>& args) {
               << "\n";
     return 1;
   }
+  JsonObject certificate;
+  if (!CertifyIfAsked(&graph, config.optimizer, &summary, &certificate,
+                      &error)) {
+    std::cerr << "slam optimize: " << error << "\n";
+    return 1;
+  }
   if (FLAGS_ceres_report) std::cout << summary.full_report << "\n";
   if (!summary.linear_solver_reason.empty()) {
     std::printf("linear solver choice: %s\n",
@@ -386,6 +393,7 @@ int RunOptimizeCommand(const std::vector<std::string>& args) {
       report.Add("reprojection_rms_before", pixels_before.rms)
           .Add("reprojection_rms_after", pixels_after.rms);
     }
+    if (!certificate.empty()) report.Add("certificate", certificate);
     if (!marginals_json.empty()) report.Add("marginals", marginals_json);
     if (!evaluation.empty()) report.AddObjectEntries(evaluation);
     if (!WriteFileAtomically(FLAGS_report, report.ToString() + "\n", &error)) {

@@ -11,8 +11,14 @@ file, written to a temporary folder, whose EDGE_SE2 angle measurements get
 Gaussian noise of SIGMA rad (as Carlone's M3500a/b/c variants): graphs where
 LM alone crawls after rejecting its first steps.
 
+With --certify, one more run per graph with `slam optimize --certify`
+gives the certification time (and whether it certified) beside the solve
+time of the default runs. When a `g2o` binary is on the PATH it is timed
+on the same file (20 iterations, CHOLMOD, OpenMP off).
+
 Usage: scripts/benchmark_posegraph.py [--datasets DIR] [--runs 3]
        [--slam build/slam] [--csv out.csv] [--md out.md] [--only NAME...]
+       [--certify]
 Runs with Debian's python3 (python3-yaml). Table output and the lookup of
 the slam binary are shared with scripts/run_benchmarks.py."""
 
@@ -20,6 +26,7 @@ import argparse
 import json
 import os
 import random
+import shutil
 import statistics
 import subprocess
 import sys
@@ -38,7 +45,9 @@ COLUMNS = [
     ("final_chi2", "final chi2"), ("optimum", "optimum"),
     ("rel_gap", "rel. gap"), ("iterations", "iterations"),
     ("max_iterations", "max it."),
-    ("median_s", "median s"), ("target_s", "target s"), ("ok", "ok"),
+    ("median_s", "median s"), ("target_s", "target s"),
+    ("solve_s", "solve s"), ("certify_s", "certify s"),
+    ("certified", "certified"), ("g2o_s", "g2o s"), ("ok", "ok"),
 ]
 
 
@@ -55,6 +64,22 @@ def rotation_noise_variant(path, sigma, seed, out_dir):
                 t[5] = repr(float(t[5]) + rng.gauss(0.0, sigma))
             g.write(" ".join(t) + "\n")
     return out
+
+
+# g2o's command-line tool, when one is on the PATH (Debian 12 ships the
+# library, libg2o-dev, but no CLI): 20 Gauss-Newton iterations, CHOLMOD,
+# OpenMP off (faster on 2 cores), whole process timed.
+G2O = shutil.which("g2o")
+
+
+def run_g2o(path, out_dir):
+    out = os.path.join(out_dir, "g2o_out.g2o")
+    env = dict(os.environ, OMP_NUM_THREADS="1", OMP_MAX_ACTIVE_LEVELS="0")
+    start = time.perf_counter()
+    proc = subprocess.run([G2O, "-i", "20", "-solver", "gn_var_cholmod",
+                           "-o", out, path], capture_output=True, env=env)
+    wall = time.perf_counter() - start
+    return wall if proc.returncode == 0 else None
 
 
 def run_once(slam, path, out_dir, extra):
@@ -84,6 +109,9 @@ def main():
     parser.add_argument("--csv", help="also write the CSV table here")
     parser.add_argument("--md", help="also write the markdown table here")
     parser.add_argument("--only", nargs="*", help="substrings of file names")
+    parser.add_argument("--certify", action="store_true",
+                        help="one more run with --certify per graph: "
+                        "certification time beside the solve time")
     parser.add_argument("--extra", default="",
                         help="extra flags for slam optimize, e.g. '--init chordal'")
     args = parser.parse_args()
@@ -119,6 +147,16 @@ def main():
                 print(e, file=sys.stderr)
                 failures += 1
                 continue
+            certificate = None
+            if args.certify:
+                try:
+                    _, cert_report = run_once(
+                        args.slam, path, tmp,
+                        args.extra.split() + ["--certify"])
+                    certificate = cert_report.get("certificate")
+                except RuntimeError as e:
+                    print(e, file=sys.stderr)
+            g2o_s = run_g2o(path, tmp) if G2O else None
             optimum = entry.get("optimum")
             final = report["final_chi2"]
             gap = (final - optimum) / optimum if optimum else None
@@ -141,6 +179,12 @@ def main():
                 "max_iterations": max_it if max_it is not None else "",
                 "median_s": "%.3f" % median,
                 "target_s": "%.2f" % target if target else "",
+                "solve_s": "%.3f" % report["solve_seconds"],
+                "certify_s": "%.3f" % certificate["seconds"]
+                             if certificate else "",
+                "certified": ("yes" if certificate["certified"] else "NO")
+                             if certificate else "",
+                "g2o_s": "%.3f" % g2o_s if g2o_s is not None else "",
                 "ok": "yes" if ok_chi2 and ok_time and ok_it else
                       ("CHI2" if not ok_chi2 else
                        "ITERATIONS" if not ok_it else "TIME"),

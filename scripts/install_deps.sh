@@ -6,6 +6,7 @@ set -euo pipefail
 packages=(
   build-essential cmake
   libceres-dev libeigen3-dev libsuitesparse-dev
+  libspectra-dev  # Sparse eigenvalues (pose-graph certificate).
   libopencv-dev libgflags-dev libgoogle-glog-dev libyaml-cpp-dev
   libgtest-dev libgmock-dev
   python3 python3-yaml python3-numpy python3-opencv zlib1g-dev libbz2-dev

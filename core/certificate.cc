@@ -1,0 +1,953 @@
+#include "core/certificate.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <memory>
+#include <numeric>
+
+#include <Spectra/SymEigsShiftSolver.h>
+#include <Eigen/Cholesky>
+#include <Eigen/CholmodSupport>
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+#include <Eigen/LU>
+#include <Eigen/QR>
+#include <Eigen/SVD>
+#include <Eigen/SparseCholesky>
+
+#include "ceres/ceres.h"
+#include "core/lie.h"
+
+namespace slam {
+namespace {
+
+using SpMat = Eigen::SparseMatrix<double>;
+using Triplets = std::vector<Eigen::Triplet<double>>;
+
+double SecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+      .count();
+}
+
+// The nearest rotation (SO(d)) to a square matrix.
+Eigen::MatrixXd ProjectToRotation(const Eigen::MatrixXd& m) {
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(
+      m, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::MatrixXd u = svd.matrixU();
+  if ((u * svd.matrixV().transpose()).determinant() < 0) {
+    u.col(u.cols() - 1) *= -1.0;
+  }
+  return u * svd.matrixV().transpose();
+}
+
+// The nearest matrix with orthonormal columns (Stiefel manifold).
+Eigen::MatrixXd ProjectToStiefel(const Eigen::MatrixXd& m) {
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(
+      m, Eigen::ComputeThinU | Eigen::ComputeThinV);
+  return svd.matrixU() * svd.matrixV().transpose();
+}
+
+// A rotation of SO(r) whose first d columns are the orthonormal columns of
+// y (r x d): y's complement from a QR factorization, sign fixed for det +1.
+Eigen::MatrixXd CompleteToRotation(const Eigen::MatrixXd& y) {
+  const int r = y.rows(), d = y.cols();
+  Eigen::MatrixXd full(r, r);
+  Eigen::HouseholderQR<Eigen::MatrixXd> qr(y);
+  full = qr.householderQ() * Eigen::MatrixXd::Identity(r, r);
+  full.leftCols(d) = y;
+  if (r > d && full.determinant() < 0) full.col(r - 1) *= -1.0;
+  return full;
+}
+
+// SO(r) stored as a column-major r x r matrix; tangent: skew-symmetric
+// matrices in the basis G_k = E_ab - E_ba (a < b); Plus by the Cayley
+// transform X (I - A/2)^-1 (I + A/2). For r = d + 1 its first d columns
+// parametrize the Stiefel manifold St(d, r) one to one (same dimension);
+// for r > d + 1 the extra directions only turn the unused columns (LM's
+// damping keeps them bounded).
+class RotationMatrixManifold final : public ceres::Manifold {
+ public:
+  explicit RotationMatrixManifold(int r) : r_(r) {
+    for (int a = 0; a < r; ++a) {
+      for (int b = a + 1; b < r; ++b) pairs_.emplace_back(a, b);
+    }
+  }
+  int AmbientSize() const override { return r_ * r_; }
+  int TangentSize() const override { return static_cast<int>(pairs_.size()); }
+
+  bool Plus(const double* x, const double* delta,
+            double* x_plus_delta) const override {
+    Eigen::Map<const Eigen::MatrixXd> xm(x, r_, r_);
+    const Eigen::MatrixXd a = Hat(delta);
+    const Eigen::MatrixXd eye = Eigen::MatrixXd::Identity(r_, r_);
+    const Eigen::MatrixXd cayley =
+        (eye - 0.5 * a).partialPivLu().solve(eye + 0.5 * a);
+    Eigen::Map<Eigen::MatrixXd>(x_plus_delta, r_, r_) = xm * cayley;
+    return true;
+  }
+  bool PlusJacobian(const double* x, double* jacobian) const override {
+    Eigen::Map<const Eigen::MatrixXd> xm(x, r_, r_);
+    const int t = TangentSize();
+    Eigen::Map<
+        Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>
+        jac(jacobian, r_ * r_, t);
+    jac.setZero();
+    // d(X G_k) with G_k = E_ab - E_ba: column b gets X.col(a), column a
+    // gets -X.col(b).
+    for (int k = 0; k < t; ++k) {
+      const auto [a, b] = pairs_[k];
+      for (int c = 0; c < r_; ++c) {
+        jac(c + r_ * b, k) += xm(c, a);
+        jac(c + r_ * a, k) -= xm(c, b);
+      }
+    }
+    return true;
+  }
+  bool Minus(const double* y, const double* x,
+             double* y_minus_x) const override {
+    Eigen::Map<const Eigen::MatrixXd> xm(x, r_, r_), ym(y, r_, r_);
+    const Eigen::MatrixXd m = xm.transpose() * ym;
+    const Eigen::MatrixXd eye = Eigen::MatrixXd::Identity(r_, r_);
+    // Inverse Cayley: A = 2 (M - I)(M + I)^-1.
+    const Eigen::MatrixXd a = 2.0 * (m + eye)
+                                        .transpose()
+                                        .partialPivLu()
+                                        .solve((m - eye).transpose())
+                                        .transpose();
+    for (size_t k = 0; k < pairs_.size(); ++k) {
+      const auto [p, q] = pairs_[k];
+      y_minus_x[k] = 0.5 * (a(p, q) - a(q, p));
+    }
+    return true;
+  }
+  bool MinusJacobian(const double* x, double* jacobian) const override {
+    Eigen::Map<const Eigen::MatrixXd> xm(x, r_, r_);
+    const int t = TangentSize();
+    Eigen::Map<
+        Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>
+        jac(jacobian, t, r_ * r_);
+    jac.setZero();
+    for (int k = 0; k < t; ++k) {
+      const auto [a, b] = pairs_[k];
+      for (int c = 0; c < r_; ++c) {
+        jac(k, c + r_ * b) += 0.5 * xm(c, a);
+        jac(k, c + r_ * a) -= 0.5 * xm(c, b);
+      }
+    }
+    return true;
+  }
+
+ private:
+  Eigen::MatrixXd Hat(const double* delta) const {
+    Eigen::MatrixXd a = Eigen::MatrixXd::Zero(r_, r_);
+    for (size_t k = 0; k < pairs_.size(); ++k) {
+      const auto [p, q] = pairs_[k];
+      a(p, q) = delta[k];
+      a(q, p) = -delta[k];
+    }
+    return a;
+  }
+  int r_;
+  std::vector<std::pair<int, int>> pairs_;
+};
+
+// One edge of f at rank r: residuals sqrt(kappa) (Y_j - Y_i Rm) (r x d,
+// column-major) and sqrt(tau) (t_j - t_i - Y_i tm) (r), where Y_i is the
+// first d columns of the SO(r) block. Linear in the ambient parameters.
+// Parameter blocks: Q_i (r*r), Q_j (r*r), t_i (r), t_j (r).
+class IsotropicEdgeCost final : public ceres::CostFunction {
+ public:
+  IsotropicEdgeCost(int r, const IsotropicEdge& e)
+      : r_(r),
+        d_(e.R.rows()),
+        sk_(std::sqrt(e.w.kappa)),
+        st_(std::sqrt(e.w.tau)),
+        rm_(e.R),
+        tm_(e.t) {
+    set_num_residuals(r * d_ + r);
+    *mutable_parameter_block_sizes() = {r * r, r * r, r, r};
+  }
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override {
+    const int r = r_, d = d_;
+    Eigen::Map<const Eigen::MatrixXd> qi(parameters[0], r, r);
+    Eigen::Map<const Eigen::MatrixXd> qj(parameters[1], r, r);
+    Eigen::Map<const Eigen::VectorXd> ti(parameters[2], r);
+    Eigen::Map<const Eigen::VectorXd> tj(parameters[3], r);
+    Eigen::Map<Eigen::MatrixXd> rot(residuals, r, d);
+    Eigen::Map<Eigen::VectorXd> tra(residuals + r * d, r);
+    rot = sk_ * (qj.leftCols(d) - qi.leftCols(d) * rm_);
+    tra = st_ * (tj - ti - qi.leftCols(d) * tm_);
+    if (jacobians == nullptr) return true;
+    const int rows = r * d + r;
+    using RowMajor =
+        Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+    if (jacobians[0] != nullptr) {
+      Eigen::Map<RowMajor> jac(jacobians[0], rows, r * r);
+      jac.setZero();
+      for (int a = 0; a < r; ++a) {
+        for (int b = 0; b < d; ++b) {
+          for (int c = 0; c < d; ++c) {
+            jac(a + r * c, a + r * b) = -sk_ * rm_(b, c);
+          }
+          jac(r * d + a, a + r * b) = -st_ * tm_(b);
+        }
+      }
+    }
+    if (jacobians[1] != nullptr) {
+      Eigen::Map<RowMajor> jac(jacobians[1], rows, r * r);
+      jac.setZero();
+      for (int a = 0; a < r; ++a) {
+        for (int c = 0; c < d; ++c) jac(a + r * c, a + r * c) = sk_;
+      }
+    }
+    for (int k = 2; k < 4; ++k) {
+      if (jacobians[k] == nullptr) continue;
+      Eigen::Map<RowMajor> jac(jacobians[k], rows, r);
+      jac.setZero();
+      for (int a = 0; a < r; ++a) jac(r * d + a, a) = k == 2 ? -st_ : st_;
+    }
+    return true;
+  }
+
+ private:
+  int r_, d_;
+  double sk_, st_;
+  Eigen::MatrixXd rm_;
+  Eigen::VectorXd tm_;
+};
+
+// The blocks of M with node 0's translation grounded (dropped): translations
+// of nodes 1..n-1 (n-1), rotations (d n).
+struct ReducedBlocks {
+  int n = 0, d = 0;
+  SpMat tt, tr, rr;  // M_tt (n-1)^2, M_tR (n-1) x dn, M_RR dn x dn.
+  Eigen::SimplicialLDLT<SpMat> tt_factor;
+};
+
+bool SplitDataMatrix(const SpMat& m, int n, int d, ReducedBlocks* blocks,
+                     std::string* error) {
+  blocks->n = n;
+  blocks->d = d;
+  Triplets tt, tr, rr;
+  for (int k = 0; k < m.outerSize(); ++k) {
+    for (SpMat::InnerIterator it(m, k); it; ++it) {
+      const int row = it.row(), col = it.col();
+      if (row == 0 || col == 0) continue;  // Grounded translation.
+      if (row < n && col < n) {
+        tt.emplace_back(row - 1, col - 1, it.value());
+      } else if (row < n) {
+        tr.emplace_back(row - 1, col - n, it.value());
+      } else if (col >= n) {
+        rr.emplace_back(row - n, col - n, it.value());
+      }
+    }
+  }
+  blocks->tt.resize(n - 1, n - 1);
+  blocks->tt.setFromTriplets(tt.begin(), tt.end());
+  blocks->tr.resize(n - 1, d * n);
+  blocks->tr.setFromTriplets(tr.begin(), tr.end());
+  blocks->rr.resize(d * n, d * n);
+  blocks->rr.setFromTriplets(rr.begin(), rr.end());
+  blocks->tt_factor.compute(blocks->tt);
+  if (blocks->tt_factor.info() != Eigen::Success) {
+    *error = "the translation Laplacian cannot be factorized";
+    return false;
+  }
+  return true;
+}
+
+// Optimal translations (r x n, t_0 = 0) for rotations y (r x d n).
+Eigen::MatrixXd OptimalTranslations(const ReducedBlocks& b,
+                                    const Eigen::MatrixXd& y) {
+  const Eigen::MatrixXd rest =
+      -b.tt_factor.solve(Eigen::MatrixXd(b.tr * y.transpose()));
+  Eigen::MatrixXd t = Eigen::MatrixXd::Zero(y.rows(), b.n);
+  t.rightCols(b.n - 1) = rest.transpose();
+  return t;
+}
+
+// Q y^T (d n x r).
+Eigen::MatrixXd QTimes(const ReducedBlocks& b, const Eigen::MatrixXd& y) {
+  const Eigen::MatrixXd t = OptimalTranslations(b, y);
+  return b.rr * y.transpose() +
+         b.tr.transpose() * t.rightCols(b.n - 1).transpose();
+}
+
+double ReducedObjective(const ReducedBlocks& b, const Eigen::MatrixXd& y) {
+  return (y.transpose().array() * QTimes(b, y).array()).sum();
+}
+
+// Lambda blocks: sym(Z_i Y_i), Z = Q Y^T.
+std::vector<Eigen::MatrixXd> LambdaBlocks(const ReducedBlocks& b,
+                                          const Eigen::MatrixXd& y) {
+  const Eigen::MatrixXd z = QTimes(b, y);
+  std::vector<Eigen::MatrixXd> lambda(b.n);
+  for (int i = 0; i < b.n; ++i) {
+    const Eigen::MatrixXd zy =
+        z.middleRows(b.d * i, b.d) * y.middleCols(b.d * i, b.d);
+    lambda[i] = 0.5 * (zy + zy.transpose());
+  }
+  return lambda;
+}
+
+// K(sigma) = [M_tt M_tR; M_Rt M_RR - Lambda - sigma I] (lower triangle),
+// factorized by LDL^T; its inertia is M_tt's (positive) plus S - sigma I's.
+class ShiftedCertificateOp {
+ public:
+  using Scalar = double;
+  ShiftedCertificateOp(const ReducedBlocks& b,
+                       const std::vector<Eigen::MatrixXd>& lambda)
+      : b_(b), lambda_(lambda) {}
+  Eigen::Index rows() const { return b_.d * b_.n; }
+  Eigen::Index cols() const { return rows(); }
+  void set_shift(double sigma) {
+    if (factorizations_ > 0 && sigma == shift_) return;  // Spectra's call.
+    shift_ = sigma;
+    const int nt = b_.n - 1, d = b_.d;
+    Triplets triplets;
+    triplets.reserve(b_.tt.nonZeros() + 2 * b_.tr.nonZeros() +
+                     b_.rr.nonZeros() + d * d * b_.n + d * b_.n);
+    for (int k = 0; k < b_.tt.outerSize(); ++k) {
+      for (SpMat::InnerIterator it(b_.tt, k); it; ++it) {
+        triplets.emplace_back(it.row(), it.col(), it.value());
+      }
+    }
+    for (int k = 0; k < b_.tr.outerSize(); ++k) {
+      for (SpMat::InnerIterator it(b_.tr, k); it; ++it) {
+        triplets.emplace_back(it.row(), nt + it.col(), it.value());
+        triplets.emplace_back(nt + it.col(), it.row(), it.value());
+      }
+    }
+    for (int k = 0; k < b_.rr.outerSize(); ++k) {
+      for (SpMat::InnerIterator it(b_.rr, k); it; ++it) {
+        triplets.emplace_back(nt + it.row(), nt + it.col(), it.value());
+      }
+    }
+    for (int i = 0; i < b_.n; ++i) {
+      for (int a = 0; a < d; ++a) {
+        for (int c = 0; c < d; ++c) {
+          triplets.emplace_back(nt + d * i + a, nt + d * i + c,
+                                -lambda_[i](a, c) - (a == c ? sigma : 0.0));
+        }
+      }
+    }
+    SpMat k(nt + d * b_.n, nt + d * b_.n);
+    k.setFromTriplets(triplets.begin(), triplets.end());
+    ++factorizations_;
+    // A Cholesky factor exists iff K(sigma) > 0, i.e. S > sigma I (the
+    // usual case: certified, or sigma below lambda_min); CHOLMOD's
+    // supernodal one is fast on dense 3D factors. Else LDL^T counts the
+    // negative pivots.
+    llt_ok_ = false;
+    llt_.cholmod().print = 0;
+    llt_.compute(k);
+    if (llt_.info() == Eigen::Success) {
+      llt_ok_ = true;
+      return;
+    }
+    factor_.compute(k);
+  }
+  bool ok() const { return llt_ok_ || factor_.info() == Eigen::Success; }
+  int NegativePivots() const {
+    if (llt_ok_) return 0;
+    return static_cast<int>((factor_.vectorD().array() < 0.0).count());
+  }
+  void perform_op(const double* x_in, double* y_out) const {
+    const int nt = b_.n - 1;
+    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(nt + rows());
+    rhs.tail(rows()) = Eigen::Map<const Eigen::VectorXd>(x_in, rows());
+    Eigen::VectorXd sol;
+    if (llt_ok_) {
+      sol = llt_.solve(rhs);
+    } else {
+      sol = factor_.solve(rhs);
+    }
+    Eigen::Map<Eigen::VectorXd>(y_out, rows()) = sol.tail(rows());
+  }
+  int factorizations() const { return factorizations_; }
+
+ private:
+  const ReducedBlocks& b_;
+  const std::vector<Eigen::MatrixXd>& lambda_;
+  Eigen::SimplicialLDLT<SpMat> factor_;
+  Eigen::CholmodSupernodalLLT<SpMat> llt_;
+  bool llt_ok_ = false;
+  double shift_ = 0.0;
+  int factorizations_ = 0;
+};
+
+std::vector<int> ParentInit(int n) {
+  std::vector<int> parent(n);
+  std::iota(parent.begin(), parent.end(), 0);
+  return parent;
+}
+int Root(std::vector<int>* parent, int i) {
+  while ((*parent)[i] != i) i = (*parent)[i] = (*parent)[(*parent)[i]];
+  return i;
+}
+
+}  // namespace
+
+bool IsotropicWeightsFromInformation(const Eigen::MatrixXd& information,
+                                     int dim, IsotropicWeights* weights) {
+  const int size = dim == 2 ? 3 : 6;
+  if ((dim != 2 && dim != 3) || information.rows() != size ||
+      information.cols() != size) {
+    return false;
+  }
+  const Eigen::MatrixXd trans = information.topLeftCorner(dim, dim);
+  Eigen::LLT<Eigen::MatrixXd> llt_t(trans);
+  if (llt_t.info() != Eigen::Success) return false;
+  weights->tau = dim / llt_t.solve(Eigen::MatrixXd::Identity(dim, dim)).trace();
+  if (dim == 2) {
+    weights->kappa = information(2, 2);
+    return weights->kappa > 0.0;
+  }
+  const Eigen::MatrixXd rot = information.bottomRightCorner(3, 3);
+  Eigen::LLT<Eigen::MatrixXd> llt_r(rot);
+  if (llt_r.info() != Eigen::Success) return false;
+  weights->kappa =
+      3.0 / (2.0 * llt_r.solve(Eigen::MatrixXd::Identity(3, 3)).trace());
+  return true;
+}
+
+bool BuildIsotropicProblem(const Graph& graph, IsotropicProblem* problem,
+                           std::string* error) {
+  *problem = IsotropicProblem();
+  std::map<Key, int> index;
+  int fixed = 0;
+  for (const auto& [key, node] : graph.nodes()) {
+    const int d = key.kind == NodeKind::kPose2   ? 2
+                  : key.kind == NodeKind::kPose3 ? 3
+                                                 : 0;
+    if (d == 0 || (problem->d != 0 && d != problem->d)) {
+      *error =
+          "the certificate needs a pose graph of SE(2) or of SE(3) "
+          "nodes only";
+      return false;
+    }
+    problem->d = d;
+    fixed += node->fixed;
+    index[key] = static_cast<int>(problem->nodes.size());
+    problem->nodes.push_back(key);
+  }
+  if (problem->nodes.size() < 2) {
+    *error = "the certificate needs at least two poses";
+    return false;
+  }
+  if (fixed > 1) {
+    *error = "the certificate needs at most one fixed node (the gauge)";
+    return false;
+  }
+  const int d = problem->d;
+  const int n = static_cast<int>(problem->nodes.size());
+  std::vector<int> parent = ParentInit(n);
+  for (const auto& [id, factor] : graph.factors()) {
+    const bool between2 = factor.type == FactorType::kBetweenSE2 && d == 2;
+    const bool between3 = factor.type == FactorType::kBetweenSE3 && d == 3;
+    if (!between2 && !between3) {
+      *error = std::string(
+                   "the certificate covers relative-pose factors "
+                   "only, not ") +
+               FactorTypeName(factor.type);
+      return false;
+    }
+    IsotropicEdge edge;
+    edge.i = index.at(factor.keys[0]);
+    edge.j = index.at(factor.keys[1]);
+    const Eigen::VectorXd& z = factor.measurement;
+    if (d == 2) {
+      edge.R = RotationMatrix2D(z(2));
+      edge.t = z.head(2);
+    } else {
+      edge.t = z.head(3);
+      edge.R = Eigen::Quaterniond(z(6), z(3), z(4), z(5))
+                   .normalized()
+                   .toRotationMatrix();
+    }
+    if (!IsotropicWeightsFromInformation(factor.information, d, &edge.w)) {
+      *error = "factor " + std::to_string(id) +
+               ": information matrix blocks not positive definite";
+      return false;
+    }
+    parent[Root(&parent, edge.i)] = Root(&parent, edge.j);
+    problem->edges.push_back(std::move(edge));
+  }
+  for (int i = 1; i < n; ++i) {
+    if (Root(&parent, i) != Root(&parent, 0)) {
+      *error = "the certificate needs a connected pose graph";
+      return false;
+    }
+  }
+  return true;
+}
+
+SpMat IsotropicDataMatrix(const IsotropicProblem& p) {
+  const int d = p.d;
+  const int n = static_cast<int>(p.nodes.size());
+  Triplets trip;
+  trip.reserve(p.edges.size() * (2 * d + 2 * d * d + (d + 2) * (d + 2)));
+  for (const IsotropicEdge& e : p.edges) {
+    const double k = e.w.kappa, tau = e.w.tau;
+    const int ri = n + d * e.i, rj = n + d * e.j;
+    for (int a = 0; a < d; ++a) {
+      trip.emplace_back(ri + a, ri + a, k);
+      trip.emplace_back(rj + a, rj + a, k);
+      for (int b = 0; b < d; ++b) {
+        trip.emplace_back(ri + a, rj + b, -k * e.R(a, b));
+        trip.emplace_back(rj + b, ri + a, -k * e.R(a, b));
+      }
+    }
+    // b = e_tj - e_ti - sum_a tm_a e_(R_i col a); tau b b^T.
+    std::vector<std::pair<int, double>> b = {{e.j, 1.0}, {e.i, -1.0}};
+    for (int a = 0; a < d; ++a) b.emplace_back(ri + a, -e.t(a));
+    for (const auto& [r, u] : b) {
+      for (const auto& [c, v] : b) trip.emplace_back(r, c, tau * u * v);
+    }
+  }
+  SpMat m(n + d * n, n + d * n);
+  m.setFromTriplets(trip.begin(), trip.end());
+  return m;
+}
+
+void GraphRotations(const Graph& graph, const IsotropicProblem& p,
+                    Eigen::MatrixXd* rotations, Eigen::MatrixXd* translations) {
+  const int d = p.d, n = static_cast<int>(p.nodes.size());
+  rotations->resize(d, d * n);
+  translations->resize(d, n);
+  for (int i = 0; i < n; ++i) {
+    const std::vector<double>& v = graph.FindNode(p.nodes[i])->value;
+    if (d == 2) {
+      rotations->middleCols(2 * i, 2) = RotationMatrix2D(v[2]);
+      translations->col(i) << v[0], v[1];
+    } else {
+      rotations->middleCols(3 * i, 3) =
+          Eigen::Quaterniond(v[6], v[3], v[4], v[5])
+              .normalized()
+              .toRotationMatrix();
+      translations->col(i) << v[0], v[1], v[2];
+    }
+  }
+}
+
+Eigen::MatrixXd DenseCertificateMatrix(const SpMat& m, int n, int d,
+                                       const Eigen::MatrixXd& y) {
+  ReducedBlocks b;
+  std::string error;
+  SplitDataMatrix(m, n, d, &b, &error);
+  const Eigen::MatrixXd tt(b.tt), tr(b.tr), rr(b.rr);
+  const Eigen::MatrixXd q = rr - tr.transpose() * tt.ldlt().solve(tr);
+  Eigen::MatrixXd s = q;
+  const std::vector<Eigen::MatrixXd> lambda = LambdaBlocks(b, y);
+  for (int i = 0; i < n; ++i) s.block(d * i, d * i, d, d) -= lambda[i];
+  return s;
+}
+
+int RefineIsotropic(const IsotropicProblem& p, int max_iterations,
+                    Eigen::MatrixXd* y) {
+  const int d = p.d, n = static_cast<int>(p.nodes.size());
+  const int r = static_cast<int>(y->rows());
+  std::vector<double> rot(static_cast<size_t>(n) * r * r), tra(n * r);
+  for (int i = 0; i < n; ++i) {
+    Eigen::Map<Eigen::MatrixXd>(rot.data() + i * r * r, r, r) =
+        CompleteToRotation(y->middleCols(n + d * i, d));
+    Eigen::Map<Eigen::VectorXd>(tra.data() + i * r, r) = y->col(i);
+  }
+  ceres::Problem::Options problem_options;
+  problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  ceres::Problem problem(problem_options);
+  RotationMatrixManifold manifold(r);
+  for (const IsotropicEdge& e : p.edges) {
+    problem.AddResidualBlock(new IsotropicEdgeCost(r, e), nullptr,
+                             rot.data() + e.i * r * r, rot.data() + e.j * r * r,
+                             tra.data() + e.i * r, tra.data() + e.j * r);
+  }
+  for (int i = 0; i < n; ++i) {
+    problem.SetManifold(rot.data() + i * r * r, &manifold);
+  }
+  problem.SetParameterBlockConstant(rot.data());
+  problem.SetParameterBlockConstant(tra.data());
+  ceres::Solver::Options options;
+  options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+  options.max_num_iterations = max_iterations;
+  // Near a critical point from the g2o solution: Gauss-Newton steps (a
+  // large first radius) converge in a few iterations; the tolerances are
+  // the relative decrease and step that leave the certificate's lambda_min
+  // at rounding level (its suboptimality bound is ~1e-10 f).
+  options.initial_trust_region_radius = 1e12;
+  options.function_tolerance = 1e-13;
+  options.gradient_tolerance = 1e-12;
+  options.parameter_tolerance = 1e-12;
+  options.logging_type = ceres::SILENT;
+  options.num_threads = 1;
+  ceres::Solver::Summary summary;
+  ceres::Solve(options, &problem, &summary);
+  for (int i = 0; i < n; ++i) {
+    y->middleCols(n + d * i, d) =
+        Eigen::Map<const Eigen::MatrixXd>(rot.data() + i * r * r, r, r)
+            .leftCols(d);
+    y->col(i) = Eigen::Map<const Eigen::VectorXd>(tra.data() + i * r, r);
+  }
+  return static_cast<int>(summary.iterations.size()) - 1;
+}
+
+namespace {
+
+// The isotropic objective at rank-d values y ([t | R], d x (n + d n)).
+double EdgeObjective(const IsotropicProblem& p, const Eigen::MatrixXd& y) {
+  const int d = p.d, n = static_cast<int>(p.nodes.size());
+  double f = 0.0;
+  for (const IsotropicEdge& e : p.edges) {
+    const auto ri = y.middleCols(n + d * e.i, d);
+    f += e.w.kappa * (y.middleCols(n + d * e.j, d) - ri * e.R).squaredNorm() +
+         e.w.tau * (y.col(e.j) - y.col(e.i) - ri * e.t).squaredNorm();
+  }
+  return f;
+}
+
+// Generators of so(d): 2D one, 3D the hat of the unit vectors.
+std::vector<Eigen::MatrixXd> Generators(int d) {
+  std::vector<Eigen::MatrixXd> g;
+  if (d == 2) {
+    g.push_back((Eigen::MatrixXd(2, 2) << 0, -1, 1, 0).finished());
+  } else {
+    for (int k = 0; k < 3; ++k) {
+      g.push_back(Skew<double>(Eigen::Vector3d::Unit(k)));
+    }
+  }
+  return g;
+}
+
+}  // namespace
+
+int NewtonRefine(const IsotropicProblem& p, const SpMat& m, int max_iterations,
+                 Eigen::MatrixXd* y) {
+  const int d = p.d, n = static_cast<int>(p.nodes.size());
+  const std::vector<Eigen::MatrixXd> gens = Generators(d);
+  const int q = static_cast<int>(gens.size());
+  const int block = d + q;  // Per free node: translation, then rotation.
+  const int cols = block * (n - 1);
+  const int rows_per_edge = d * d + d;
+  double f = EdgeObjective(p, *y);
+  int it = 0;
+  for (; it < max_iterations; ++it) {
+    Triplets jac;
+    Eigen::VectorXd r(rows_per_edge * p.edges.size());
+    for (size_t k = 0; k < p.edges.size(); ++k) {
+      const IsotropicEdge& e = p.edges[k];
+      const double sk = std::sqrt(e.w.kappa), st = std::sqrt(e.w.tau);
+      const Eigen::MatrixXd ri = y->middleCols(n + d * e.i, d);
+      const Eigen::MatrixXd rj = y->middleCols(n + d * e.j, d);
+      const int row = rows_per_edge * static_cast<int>(k);
+      Eigen::Map<Eigen::MatrixXd>(r.data() + row, d, d) = sk * (rj - ri * e.R);
+      r.segment(row + d * d, d) = st * (y->col(e.j) - y->col(e.i) - ri * e.t);
+      // Columns of node i's variables (node 0 is held).
+      auto col = [&](int node, int c) { return block * (node - 1) + c; };
+      for (int g = 0; g < q; ++g) {
+        if (e.i > 0) {
+          const Eigen::MatrixXd dr = -sk * ri * gens[g] * e.R;
+          const Eigen::VectorXd dt = -st * ri * gens[g] * e.t;
+          for (int a = 0; a < d * d; ++a) {
+            jac.emplace_back(row + a, col(e.i, d + g), dr(a));
+          }
+          for (int a = 0; a < d; ++a) {
+            jac.emplace_back(row + d * d + a, col(e.i, d + g), dt(a));
+          }
+        }
+        if (e.j > 0) {
+          const Eigen::MatrixXd dr = sk * rj * gens[g];
+          for (int a = 0; a < d * d; ++a) {
+            jac.emplace_back(row + a, col(e.j, d + g), dr(a));
+          }
+        }
+      }
+      for (int a = 0; a < d; ++a) {
+        if (e.i > 0) jac.emplace_back(row + d * d + a, col(e.i, a), -st);
+        if (e.j > 0) jac.emplace_back(row + d * d + a, col(e.j, a), st);
+      }
+    }
+    SpMat j(r.size(), cols);
+    j.setFromTriplets(jac.begin(), jac.end());
+    SpMat h = SpMat(j.transpose()) * j;
+    const Eigen::VectorXd g = j.transpose() * r;
+    // Second-order term of the retraction: sum_i tr(W_i^2 Lambda_i) with
+    // Lambda_i = sym(P_i R_i), P = M Y^T: -tr(Lambda) (2D), Lambda -
+    // tr(Lambda) I (3D) in the generators' coordinates.
+    const Eigen::MatrixXd pm = m * y->transpose();
+    Triplets extra;
+    for (int i = 1; i < n; ++i) {
+      const Eigen::MatrixXd pr =
+          pm.middleRows(n + d * i, d) * y->middleCols(n + d * i, d);
+      const Eigen::MatrixXd lambda = 0.5 * (pr + pr.transpose());
+      const Eigen::MatrixXd hl =
+          d == 2
+              ? Eigen::MatrixXd::Constant(1, 1, -lambda.trace())
+              : Eigen::MatrixXd(lambda - lambda.trace() *
+                                             Eigen::MatrixXd::Identity(3, 3));
+      for (int a = 0; a < q; ++a) {
+        for (int b = 0; b < q; ++b) {
+          extra.emplace_back(block * (i - 1) + d + a, block * (i - 1) + d + b,
+                             hl(a, b));
+        }
+      }
+    }
+    SpMat hx(cols, cols);
+    hx.setFromTriplets(extra.begin(), extra.end());
+    h += hx;
+    // Near a minimum the Hessian is positive definite: CHOLMOD's
+    // supernodal Cholesky (dense factors of 3D graphs); else LDL^T.
+    Eigen::VectorXd step;
+    Eigen::CholmodSupernodalLLT<SpMat> llt;
+    llt.cholmod().print = 0;  // "Not positive definite" is an answer here.
+    llt.compute(h);
+    if (llt.info() == Eigen::Success) {
+      step = llt.solve(-g);
+    } else {
+      Eigen::SimplicialLDLT<SpMat> ldlt(h);
+      if (ldlt.info() != Eigen::Success) return -1;
+      step = ldlt.solve(-g);
+    }
+    if (!step.allFinite()) return -1;
+    // The model's decrease g^T H^-1 g: at rounding level, converged.
+    const double predicted = -g.dot(step);
+    if (predicted >= 0.0 && predicted <= 1e-13 * f) return it;
+    // Retraction R_i Exp(W_i), with backtracking on f.
+    bool accepted = false;
+    for (double alpha = 1.0; alpha > 1e-3 && !accepted; alpha *= 0.5) {
+      Eigen::MatrixXd trial = *y;
+      for (int i = 1; i < n; ++i) {
+        const Eigen::VectorXd s = alpha * step.segment(block * (i - 1), block);
+        trial.col(i) += s.head(d);
+        Eigen::MatrixXd rot;
+        if (d == 2) {
+          rot = RotationMatrix2D(s(2));
+        } else {
+          rot = QuaternionExp<double>(Eigen::Vector3d(s.tail(3)))
+                    .toRotationMatrix();
+        }
+        trial.middleCols(n + d * i, d) = y->middleCols(n + d * i, d) * rot;
+      }
+      const double f_trial = EdgeObjective(p, trial);
+      if (f_trial <= f) {
+        const double decrease = f - f_trial;
+        *y = trial;
+        f = f_trial;
+        accepted = true;
+        if (decrease <= 1e-15 * f) return it + 1;
+      }
+    }
+    if (!accepted) return it;  // No decrease left: at rounding level.
+  }
+  return it;
+}
+
+bool CertifyRotations(const IsotropicProblem& p, const SpMat& m,
+                      const Eigen::MatrixXd& y, const CertificateOptions& o,
+                      CertificateResult* result, std::string* error) {
+  const int d = p.d, n = static_cast<int>(p.nodes.size());
+  ReducedBlocks b;
+  if (!SplitDataMatrix(m, n, d, &b, error)) return false;
+  const auto start = std::chrono::steady_clock::now();
+  const std::vector<Eigen::MatrixXd> lambda = LambdaBlocks(b, y);
+  double f = 0.0;
+  for (const Eigen::MatrixXd& l : lambda) f += l.trace();
+  result->objective = f;
+  result->rank = static_cast<int>(y.rows());
+  // Tolerance: the relative gap, not below rounding of the matrix entries.
+  double scale = 0.0;
+  for (int i = 0; i < b.rr.rows(); ++i) {
+    scale = std::max(scale, std::abs(b.rr.coeff(i, i)));
+  }
+  result->delta =
+      std::max(o.relative_gap * std::max(f, 0.0) / (d * n), 1e-12 * scale);
+  ShiftedCertificateOp op(b, lambda);
+  // Inertia of K(-delta): S + delta I >= 0 iff no negative pivot. Else the
+  // shift goes down by tens until it is below lambda_min.
+  double sigma = -result->delta;
+  op.set_shift(sigma);
+  result->certified = op.ok() && op.NegativePivots() == 0;
+  const double limit = -1e6 * std::max(scale, 1.0);
+  while (!(op.ok() && op.NegativePivots() == 0) && sigma > limit) {
+    sigma *= 10.0;
+    op.set_shift(sigma);
+  }
+  result->factorizations = op.factorizations();
+  if (!op.ok() || op.NegativePivots() > 0) {
+    *error = "the shifted certificate matrix cannot be factorized";
+    return false;
+  }
+  // Shift-and-invert Lanczos at sigma < lambda_min: the eigenvalue nearest
+  // to sigma is lambda_min.
+  const int size = d * n;
+  const int ncv = std::min(size, 20);
+  Spectra::SymEigsShiftSolver<ShiftedCertificateOp> eigs(op, 1, ncv, sigma);
+  eigs.init();
+  eigs.compute(Spectra::SortRule::LargestMagn, 1000, 1e-10);
+  if (eigs.info() != Spectra::CompInfo::Successful) {
+    *error = "the Lanczos iteration for lambda_min did not converge";
+    return false;
+  }
+  result->lambda_min = eigs.eigenvalues()(0);
+  result->eigenvector = eigs.eigenvectors(1).col(0);
+  result->lower_bound = f + d * n * std::min(result->lambda_min, 0.0);
+  result->suboptimality_bound = f - result->lower_bound;
+  result->eigen_seconds += SecondsSince(start);
+  return true;
+}
+
+bool CertifyGraph(const Graph& graph, const CertificateOptions& options,
+                  CertificateResult* result, std::string* error) {
+  const auto start = std::chrono::steady_clock::now();
+  *result = CertificateResult();
+  IsotropicProblem p;
+  if (!BuildIsotropicProblem(graph, &p, error)) return false;
+  const int d = p.d, n = static_cast<int>(p.nodes.size());
+  const SpMat m = IsotropicDataMatrix(p);
+  Eigen::MatrixXd rotations, translations;
+  GraphRotations(graph, p, &rotations, &translations);
+  Eigen::MatrixXd y(d, n + d * n);
+  y << translations, rotations;
+  result->start_objective = (y * m * y.transpose()).trace();
+  const Eigen::MatrixXd given = y;
+  const auto refine_start = std::chrono::steady_clock::now();
+  result->refine_iterations =
+      NewtonRefine(p, m, options.max_refine_iterations, &y);
+  if (result->refine_iterations < 0) {
+    y = given;
+    result->refine_iterations =
+        RefineIsotropic(p, options.max_refine_iterations, &y);
+  }
+  result->refine_seconds = SecondsSince(refine_start);
+  double sum_sq = 0.0;
+  for (int i = 0; i < n; ++i) {
+    const Eigen::MatrixXd rel =
+        given.middleCols(n + d * i, d).transpose() * y.middleCols(n + d * i, d);
+    const double c = std::clamp((rel.trace() - (d - 2)) / 2.0, -1.0, 1.0);
+    result->max_rotation_difference =
+        std::max(result->max_rotation_difference, std::acos(c));
+    // Translations relative to node 0, which refining held fixed.
+    sum_sq +=
+        ((given.col(i) - given.col(0)) - (y.col(i) - y.col(0))).squaredNorm();
+  }
+  result->rms_translation_difference = std::sqrt(sum_sq / n);
+  const bool ok =
+      CertifyRotations(p, m, y.rightCols(d * n), options, result, error);
+  result->seconds = SecondsSince(start);
+  return ok;
+}
+
+bool SolveIsotropicGlobally(Graph* graph, const CertificateOptions& options,
+                            CertificateResult* result, std::string* error) {
+  const auto start = std::chrono::steady_clock::now();
+  *result = CertificateResult();
+  IsotropicProblem p;
+  if (!BuildIsotropicProblem(*graph, &p, error)) return false;
+  const int d = p.d, n = static_cast<int>(p.nodes.size());
+  const SpMat m = IsotropicDataMatrix(p);
+  ReducedBlocks b;
+  if (!SplitDataMatrix(m, n, d, &b, error)) return false;
+  Eigen::MatrixXd rotations, translations;
+  GraphRotations(*graph, p, &rotations, &translations);
+  Eigen::MatrixXd y(d, n + d * n);
+  y << translations, rotations;
+  int refine_iterations = RefineIsotropic(p, options.max_refine_iterations, &y);
+  if (!CertifyRotations(p, m, y.rightCols(d * n), options, result, error)) {
+    return false;
+  }
+  int factorizations = result->factorizations;
+  for (int r = d + 1; !result->certified && r <= d + options.max_rank_increase;
+       ++r) {
+    // Lift to rank r (a zero row) and descend along the new row set to the
+    // eigenvector of lambda_min: second-order decrease lambda_min alpha^2.
+    Eigen::MatrixXd yr = Eigen::MatrixXd::Zero(r, d * n);
+    yr.topRows(r - 1) = y.rightCols(d * n);
+    const double f0 = ReducedObjective(b, yr);
+    Eigen::MatrixXd dot = Eigen::MatrixXd::Zero(r, d * n);
+    dot.row(r - 1) = result->eigenvector.transpose();
+    Eigen::MatrixXd best;
+    for (double alpha = std::sqrt(static_cast<double>(n)); alpha > 1e-12;
+         alpha *= 0.5) {
+      Eigen::MatrixXd trial = yr + alpha * dot;
+      for (int i = 0; i < n; ++i) {
+        trial.middleCols(d * i, d) =
+            ProjectToStiefel(trial.middleCols(d * i, d));
+      }
+      if (ReducedObjective(b, trial) < f0) {
+        best = trial;
+        break;
+      }
+    }
+    if (best.size() == 0) {
+      *error = "no descent from the saddle at rank " + std::to_string(r - 1);
+      return false;
+    }
+    y.resize(r, n + d * n);
+    y << OptimalTranslations(b, best), best;
+    refine_iterations += RefineIsotropic(p, options.max_refine_iterations, &y);
+    if (!CertifyRotations(p, m, y.rightCols(d * n), options, result, error)) {
+      return false;
+    }
+    factorizations += result->factorizations;
+  }
+  result->refine_iterations = refine_iterations;
+  result->factorizations = factorizations;
+  result->seconds = SecondsSince(start);
+  if (!result->certified) {
+    *error = "the staircase ended uncertified at rank " +
+             std::to_string(result->rank);
+    return false;
+  }
+  // Rounding: the best rank-d approximation Sigma_d V_d^T = U_d^T Y of Y
+  // (top eigenvectors of Y Y^T), the sign giving most blocks det > 0, each
+  // block projected onto SO(d).
+  const Eigen::MatrixXd yr = y.rightCols(d * n);
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(yr * yr.transpose());
+  const int r = static_cast<int>(yr.rows());
+  Eigen::MatrixXd rounded =
+      eig.eigenvectors().rightCols(d).transpose() * yr;  // d x dn.
+  int positive = 0;
+  for (int i = 0; i < n; ++i) {
+    positive += rounded.middleCols(d * i, d).determinant() > 0;
+  }
+  if (2 * positive < n) rounded.row(d - 1) *= -1.0;
+  for (int i = 0; i < n; ++i) {
+    rounded.middleCols(d * i, d) =
+        ProjectToRotation(rounded.middleCols(d * i, d));
+  }
+  (void)r;
+  Eigen::MatrixXd t = OptimalTranslations(b, rounded);
+  // Gauge: the fixed node (else node 0) keeps its pose: X_i <- G X_i.
+  int anchor = 0;
+  for (int i = 0; i < n; ++i) {
+    if (graph->FindNode(p.nodes[i])->fixed) anchor = i;
+  }
+  const Eigen::MatrixXd g_rot = rotations.middleCols(d * anchor, d) *
+                                rounded.middleCols(d * anchor, d).transpose();
+  const Eigen::VectorXd g_tra =
+      translations.col(anchor) - g_rot * t.col(anchor);
+  for (int i = 0; i < n; ++i) {
+    const Eigen::MatrixXd rot = g_rot * rounded.middleCols(d * i, d);
+    const Eigen::VectorXd tra = g_rot * t.col(i) + g_tra;
+    std::vector<double>& v = graph->FindNode(p.nodes[i])->value;
+    if (d == 2) {
+      v[0] = tra(0);
+      v[1] = tra(1);
+      v[2] = std::atan2(rot(1, 0), rot(0, 0));
+    } else {
+      const Eigen::Matrix3d rot3 = rot;
+      const Eigen::Quaterniond q(rot3);
+      for (int k = 0; k < 3; ++k) v[k] = tra(k);
+      v[3] = q.x();
+      v[4] = q.y();
+      v[5] = q.z();
+      v[6] = q.w();
+    }
+  }
+  return true;
+}
+
+}  // namespace slam

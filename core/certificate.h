@@ -1,0 +1,156 @@
+// Certificate of global optimality for pose graphs and the Riemannian
+// staircase that escapes local minima (SE-Sync: Rosen, Carlone, Bandeira,
+// Leonard, "SE-Sync: a certifiably correct algorithm for synchronization
+// over the special Euclidean group", IJRR 2019). Written from the paper.
+//
+// The certified problem is the ISOTROPIC approximation of the pose graph:
+//   f(t, R) = sum_e kappa_e |R_j - R_i Rm_e|_F^2 + tau_e |t_j - t_i - R_i
+//   tm_e|^2
+// over R_i in SO(d), t_i in R^d, with one scalar kappa (rotation) and tau
+// (translation) per relative-pose factor taken from its information matrix
+// as SE-Sync's g2o loader does (IsotropicWeightsFromInformation). This is
+// not the g2o objective (sum e^T Omega e with the full matrices and the
+// geodesic angle), so a certificate proves the optimum of f, not of chi2.
+//
+// Translations are eliminated in closed form: with Y = [t_1..t_n R_1..R_n]
+// (r x (n + dn), r >= d) f = tr(Y M Y^T) for a sparse symmetric data matrix
+// M, and min over t gives tr(Y_R Q Y_R^T) with Q = M_RR - M_Rt M_tt^+ M_tR
+// (dense, never formed: every operation below uses the sparse matrix
+// K = [M_tt M_tR; M_Rt M_RR - Lambda - sigma I] with node 0's translation
+// grounded, whose Schur complement is S - sigma I).
+//
+// At a first-order critical point Y_R, Lambda = SymBlockDiag_d(Q Y_R^T Y_R)
+// and S = Q - Lambda. If S >= 0, Y_R is a global minimizer of the
+// semidefinite relaxation; with rank d it is the global optimum of f. For
+// any lambda_min(S) the relaxation's value is at least
+//   f(Y_R) + d n min(lambda_min, 0)
+// (tr(QZ) = tr(SZ) + tr(Lambda) >= d n lambda_min + f for every feasible Z),
+// which is the lower bound reported. Certified iff lambda_min >= -delta.
+#ifndef SLAM_CORE_CERTIFICATE_H_
+#define SLAM_CORE_CERTIFICATE_H_
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+
+#include "core/graph.h"
+
+namespace slam {
+
+struct IsotropicWeights {
+  double kappa = 0.0;  // Rotation concentration.
+  double tau = 0.0;    // Translation precision.
+};
+
+// SE-Sync's rule (its g2o loader): with Omega_t the translation block and
+// Omega_R the rotation block of the g2o information matrix,
+//   2D (x, y, theta): tau = 2 / tr(Omega_t^-1), kappa = Omega_theta,theta;
+//   3D (t, qvec):     tau = 3 / tr(Omega_t^-1), kappa = 3 / (2 tr(Omega_R^-1)).
+// Returns false when a block is not positive definite.
+bool IsotropicWeightsFromInformation(const Eigen::MatrixXd& information,
+                                     int dim, IsotropicWeights* weights);
+
+struct IsotropicEdge {
+  int i = 0, j = 0;   // Node indices.
+  Eigen::MatrixXd R;  // Measured rotation of X_i^-1 X_j (d x d).
+  Eigen::VectorXd t;  // Measured translation (d).
+  IsotropicWeights w;
+};
+
+struct IsotropicProblem {
+  int d = 0;               // 2 or 3.
+  std::vector<Key> nodes;  // Index -> key.
+  std::vector<IsotropicEdge> edges;
+};
+
+// The isotropic problem of a pose graph: only SE(2) or only SE(3) relative
+// pose factors, no priors or other factors, connected, at most one fixed
+// node (the gauge). Returns false with *error otherwise.
+bool BuildIsotropicProblem(const Graph& graph, IsotropicProblem* problem,
+                           std::string* error);
+
+// The data matrix M over [t_1..t_n, vec blocks R_1..R_n] (n + d n square).
+Eigen::SparseMatrix<double> IsotropicDataMatrix(const IsotropicProblem& p);
+
+// Rotations of the graph's nodes as Y_R (d x d n), translations (d x n).
+void GraphRotations(const Graph& graph, const IsotropicProblem& p,
+                    Eigen::MatrixXd* rotations, Eigen::MatrixXd* translations);
+
+struct CertificateOptions {
+  // delta = relative_gap * f / (d n): certified when the bound it proves,
+  // d n max(-lambda_min, 0), is at most relative_gap * f.
+  double relative_gap = 1e-6;
+  // Before certifying, the rotations are refined to a critical point of f
+  // (LM on f from the given values; they come from the g2o objective).
+  int max_refine_iterations = 100;
+  // Staircase: ranks d+1 .. d + max_rank_increase.
+  int max_rank_increase = 3;
+};
+
+struct CertificateResult {
+  bool certified = false;
+  double lambda_min = 0.0;
+  double delta = 0.0;
+  double objective = 0.0;            // f at the refined critical point.
+  double lower_bound = 0.0;          // f + d n min(lambda_min, 0).
+  double suboptimality_bound = 0.0;  // objective - lower_bound.
+  double start_objective = 0.0;      // f at the values given (before refining).
+  int rank = 0;                      // Rank of the relaxation certified.
+  int refine_iterations = 0;
+  int factorizations = 0;  // Of K, for the eigenvalue search.
+  double seconds = 0.0;
+  double refine_seconds = 0.0;  // Of which refining to a critical point.
+  double eigen_seconds = 0.0;   // ... and finding lambda_min.
+  // The given values against the refined critical point of f (rank d only):
+  // largest rotation difference (radians) and RMS translation difference.
+  double max_rotation_difference = 0.0;
+  double rms_translation_difference = 0.0;
+  Eigen::VectorXd eigenvector;  // Of lambda_min (d n), when not certified.
+};
+
+// Smallest eigenvalue (and eigenvector) of S = Q - Lambda(Y_R) for a
+// critical point Y_R (r x d n) of the reduced problem, by shift-and-invert
+// Lanczos (Spectra) on sparse factorizations of K; also the objective.
+bool CertifyRotations(const IsotropicProblem& p,
+                      const Eigen::SparseMatrix<double>& M,
+                      const Eigen::MatrixXd& Y, const CertificateOptions& o,
+                      CertificateResult* result, std::string* error);
+
+// The dense certificate matrix S (tests, small graphs only).
+Eigen::MatrixXd DenseCertificateMatrix(const Eigen::SparseMatrix<double>& M,
+                                       int n, int d, const Eigen::MatrixXd& Y);
+
+// Locally minimizes f over rank-r variables (Y_R r x d n with orthonormal
+// d-column blocks, translations r x n) from *Y by LM on a Stiefel
+// parametrization; returns the iterations.
+int RefineIsotropic(const IsotropicProblem& p, int max_iterations,
+                    Eigen::MatrixXd* Y);
+
+// Rank d only: Riemannian Newton steps on f (translations and rotations,
+// node 0 held; the exact Hessian, with the curvature term of the rotations'
+// retraction that Gauss-Newton leaves out and without which it converges
+// only linearly), with backtracking. Returns the iterations, or -1 when
+// the Newton system cannot be solved (far from a minimum).
+int NewtonRefine(const IsotropicProblem& p,
+                 const Eigen::SparseMatrix<double>& m, int max_iterations,
+                 Eigen::MatrixXd* y);
+
+// Certifies the graph's current values: refines them to a critical point
+// of f (rank d) and certifies that.
+bool CertifyGraph(const Graph& graph, const CertificateOptions& options,
+                  CertificateResult* result, std::string* error);
+
+// The Riemannian staircase from the graph's values: ranks d+1, d+2, ...
+// (escaping along the eigenvector of lambda_min) until the relaxation is
+// certified, then rounding to SO(d)^n and the translations by least
+// squares, written into the graph (the fixed node, if any, keeps its pose).
+// *result describes the relaxation's certificate (its lower bound is a
+// lower bound for f). Returns false when the staircase ends uncertified.
+bool SolveIsotropicGlobally(Graph* graph, const CertificateOptions& options,
+                            CertificateResult* result, std::string* error);
+
+}  // namespace slam
+
+#endif  // SLAM_CORE_CERTIFICATE_H_
