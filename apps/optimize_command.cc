@@ -15,9 +15,9 @@
 #include "apps/eval_report.h"
 #include "apps/json.h"
 #include "apps/map_plot.h"
+#include "apps/marginals_report.h"
 #include "apps/optimize_config.h"
 #include "apps/yaml_config.h"
-#include "core/marginals.h"
 #include "datasets/atomic_file.h"
 #include "datasets/g2o_io.h"
 #include "datasets/stereo_vo_io.h"
@@ -105,22 +105,6 @@ bool BuildConfig(OptimizeConfig* config, std::string* error) {
   return ValidateOptimizeConfig(*config, error);
 }
 
-bool ParseIds(const std::string& text, std::vector<int64_t>* ids,
-              std::string* error) {
-  std::stringstream in(text);
-  std::string item;
-  while (std::getline(in, item, ',')) {
-    char* end = nullptr;
-    const long long id = std::strtoll(item.c_str(), &end, 10);
-    if (item.empty() || *end != '\0') {
-      *error = "--marginals: '" + item + "' is not a node id";
-      return false;
-    }
-    ids->push_back(id);
-  }
-  return true;
-}
-
 double Seconds(std::chrono::steady_clock::time_point since) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - since)
       .count();
@@ -155,7 +139,7 @@ int RunOptimizeCommand(const std::vector<std::string>& args) {
     return 2;
   }
   std::vector<int64_t> marginal_ids;
-  if (!ParseIds(FLAGS_marginals, &marginal_ids, &error)) {
+  if (!ParseMarginalIds(FLAGS_marginals, &marginal_ids, &error)) {
     std::cerr << "slam optimize: " << error << "\n";
     return 2;
   }
@@ -220,16 +204,10 @@ int RunOptimizeCommand(const std::vector<std::string>& args) {
               input.c_str(), graph.NumNodes(), graph.NumFactors(), file_chi2,
               load_seconds);
 
-  // Marginal ids name pose nodes (the file's single id space).
   std::vector<Key> marginal_keys;
-  for (int64_t id : marginal_ids) {
-    const Key key2 = Pose2Key(id), key3 = Pose3Key(id);
-    if (!graph.HasNode(key2) && !graph.HasNode(key3)) {
-      std::cerr << "slam optimize: --marginals: no node with id " << id
-                << " among the pose nodes of " << input << "\n";
-      return 1;
-    }
-    marginal_keys.push_back(graph.HasNode(key2) ? key2 : key3);
+  if (!MarginalKeysOf(graph, marginal_ids, input, &marginal_keys, &error)) {
+    std::cerr << "slam optimize: " << error << "\n";
+    return 1;
   }
 
   ApplyRobustKernels(config, &graph);
@@ -299,30 +277,10 @@ int RunOptimizeCommand(const std::vector<std::string>& args) {
               summary.linear_solver.c_str(), summary.sparse_library.c_str(),
               summary.ordering.c_str(), summary.gauge.c_str());
 
-  // Marginals.
   JsonObject marginals_json;
-  if (!marginal_keys.empty()) {
-    const std::vector<Key>& keys = marginal_keys;
-    std::map<Key, Eigen::MatrixXd> covariances;
-    if (!ComputeMarginals(&graph, keys, &covariances, &error)) {
-      std::cerr << "slam optimize: marginals: " << error << "\n";
-      return 1;
-    }
-    std::printf(
-        "marginal covariances (body frame, translation first, full angle):\n");
-    for (const auto& [key, cov] : covariances) {
-      std::printf("  node %lld:\n", static_cast<long long>(key.id));
-      std::vector<double> flat;
-      for (int r = 0; r < cov.rows(); ++r) {
-        std::printf("   ");
-        for (int c = 0; c < cov.cols(); ++c) {
-          std::printf(" % .6e", cov(r, c));
-          flat.push_back(cov(r, c));
-        }
-        std::printf("\n");
-      }
-      marginals_json.Add(std::to_string(key.id), flat);
-    }
+  if (!ReportMarginals(&graph, marginal_keys, &marginals_json, &error)) {
+    std::cerr << "slam optimize: " << error << "\n";
+    return 1;
   }
 
   JsonObject evaluation;
