@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 namespace slam {
 namespace {
@@ -98,28 +99,55 @@ size_t StillPrefix(const InertialData& data, const InertialOptions& options,
 
 // Normal equations of the alignment with roll and pitch known: u = R_tilt
 // (dp + dR lever_arm) rotated by the yaw psi about the vertical,
-// (c, s) = (cos psi, sin psi):
-//   horizontal: y_x = p0x + v0x t + c u_x - s u_y + e_x u_z,
-//               y_y = p0y + v0y t + s u_x + c u_y + e_y u_z  (8 unknowns;
-//               e: a small tilt error (or constant horizontal
-//               accelerometer error) acting on the large vertical u_z),
+// (c, s) = (cos psi, sin psi), and the readings' bias error db (gyro, accel;
+// against the bias the readings were integrated with) acting through the
+// preintegration's bias Jacobians, M = R_tilt [dp_dbg dp_dba] (3 x 6). The
+// world-frame effect Rz(psi) M db is bilinear in (c, s) and db; with
+// q = c db and r = s db it is linear:
+//   horizontal: y_x = p0x + v0x t + c u_x - s u_y + e_x u_z + M_x q - M_y r,
+//               y_y = p0y + v0y t + s u_x + c u_y + e_y u_z + M_y q + M_x r
+//               (20 unknowns; e: a small tilt error (or constant horizontal
+//               accelerometer error in the world frame) acting on the large
+//               vertical u_z; q, r: a bias in the body frame, which turns in
+//               the world frame as the body turns),
 //   vertical:   y_z = p0z + v0z t + u_z + 1/2 b t^2  (3 unknowns; b absorbs
 //               the accelerometer's error along the vertical).
+// e, q and r have zero-mean priors (the tilt and bias sigmas; |q|, |r| <=
+// |db|): without turning, a body-frame bias and the tilt error look alike,
+// and the priors say how much of the motion either may explain. The yaw
+// sigma is the marginal of (c, s) across their direction under that
+// information (the inverse of the normal matrix with the priors), so it
+// counts what the bias and tilt may take away from the yaw.
 struct Alignment {
-  using Vec8 = Eigen::Matrix<double, 8, 1>;
-  using Mat8 = Eigen::Matrix<double, 8, 8>;
-  Mat8 normal = Mat8::Zero();
-  Vec8 rhs = Vec8::Zero();
+  static constexpr int kH = 20;
+  using VecH = Eigen::Matrix<double, kH, 1>;
+  using MatH = Eigen::Matrix<double, kH, kH>;
+  MatH normal = MatH::Zero();
+  MatH prior = MatH::Zero();
+  VecH rhs = VecH::Zero();
   Eigen::Matrix3d normal_z = Eigen::Matrix3d::Zero();
   Eigen::Vector3d rhs_z = Eigen::Vector3d::Zero();
   double yy = 0.0;
   int fixes = 0;
 
+  Alignment(double tilt_sigma, double gyro_bias_sigma,
+            double accel_bias_sigma) {
+    prior.diagonal().segment<2>(6).setConstant(1.0 / (tilt_sigma * tilt_sigma));
+    for (int block : {8, 14}) {
+      prior.diagonal().segment<3>(block).setConstant(
+          1.0 / (gyro_bias_sigma * gyro_bias_sigma));
+      prior.diagonal().segment<3>(block + 3).setConstant(
+          1.0 / (accel_bias_sigma * accel_bias_sigma));
+    }
+  }
+
   void Add(double tau, const Eigen::Vector3d& y, const Eigen::Vector3d& u,
-           double weight) {
-    Vec8 ax, ay;
-    ax << 1.0, 0.0, tau, 0.0, u.x(), -u.y(), u.z(), 0.0;
-    ay << 0.0, 1.0, 0.0, tau, u.y(), u.x(), 0.0, u.z();
+           const Eigen::Matrix<double, 3, 6>& m, double weight) {
+    VecH ax, ay;
+    ax << 1.0, 0.0, tau, 0.0, u.x(), -u.y(), u.z(), 0.0, m.row(0).transpose(),
+        -m.row(1).transpose();
+    ay << 0.0, 1.0, 0.0, tau, u.y(), u.x(), 0.0, u.z(), m.row(1).transpose(),
+        m.row(0).transpose();
     normal += weight * (ax * ax.transpose() + ay * ay.transpose());
     rhs += weight * (ax * y.x() + ay * y.y());
     yy += weight * (y.x() * y.x() + y.y() * y.y());
@@ -139,14 +167,14 @@ struct Alignment {
   Result Solve() const {
     Result r;
     if (fixes < kMinAlignmentFixes) return r;
-    Eigen::LDLT<Mat8> ldlt(normal);
+    Eigen::LDLT<MatH> ldlt(normal + prior);
     Eigen::LDLT<Eigen::Matrix3d> ldlt_z(normal_z);
     if (ldlt.info() != Eigen::Success || ldlt_z.info() != Eigen::Success) {
       return r;
     }
-    const Vec8 x = ldlt.solve(rhs);
+    const VecH x = ldlt.solve(rhs);
     const Eigen::Vector3d xz = ldlt_z.solve(rhs_z);
-    const Mat8 cov = ldlt.solve(Mat8::Identity());
+    const MatH cov = ldlt.solve(MatH::Identity());
     if (!x.allFinite() || !xz.allFinite() || !cov.allFinite()) return r;
     const int dof = 2 * fixes - 8;
     const double chi2 = yy - x.dot(rhs);
@@ -159,7 +187,7 @@ struct Alignment {
     r.yaw = std::atan2(cs.y(), cs.x());
     r.yaw_sigma =
         std::sqrt(scale * across.dot(cov.block<2, 2>(4, 4) * across)) / norm;
-    r.tilt_error = x.tail<2>();
+    r.tilt_error = x.segment<2>(6);
     r.p0 = Eigen::Vector3d(x[0], x[1], xz[0]);
     r.v0 = Eigen::Vector3d(x[2], x[3], xz[1]);
     const Eigen::Matrix3d cov_z = ldlt_z.solve(Eigen::Matrix3d::Identity());
@@ -211,8 +239,11 @@ bool InitializeInertial(const InertialData& data,
   init->still_start = still_end > 0;
   if (init->still_start) {
     init->state.bias.head<3>() = first.GyroMean();
-    // The spread of the mean (vibration is not white: a floor).
-    init->gyro_bias_sigma = 2e-3;
+    // The spread of the mean under the gyroscope's white noise (vibration
+    // is not white: a floor).
+    init->gyro_bias_sigma =
+        std::max(2e-3, options.noise.gyro_noise_density /
+                           std::sqrt(std::max(init->still_seconds, 0.1)));
     init->tilt_sigma = 0.02;  // An accelerometer bias of 0.2 m/s^2.
     init->velocity_sigma = 0.05;
   } else {
@@ -236,11 +267,14 @@ bool InitializeInertial(const InertialData& data,
           .toRotationMatrix();
   const Eigen::Matrix3d r_level = level * r_tilt;
   init->yaw_observable_stamp = data.imu.back().stamp;
+  init->yaw_hint_stamp = std::numeric_limits<TimeNs>::max();
 
   // In-motion alignment over the fixes, in time order.
   PreintegratedImu pim(options.noise, init->state.bias, options.gravity);
   TimeNs integrated_to = t0;
-  Alignment alignment;
+  double best_sigma = M_PI;  // The smallest yaw sigma of the fit so far.
+  Alignment alignment(init->tilt_sigma, init->gyro_bias_sigma,
+                      init->accel_bias_sigma);
   const double weight = 1.0 / (options.position_sigma * options.position_sigma);
   for (; f < data.positions.size(); ++f) {
     const PositionFix& fix = data.positions[f];
@@ -257,8 +291,15 @@ bool InitializeInertial(const InertialData& data,
         level * (fix.position - 0.5 * options.gravity * tau * tau);
     const Eigen::Vector3d u =
         r_level * (pim.delta_p() + pim.delta_q() * options.lever_arm);
-    alignment.Add(tau, y, u, weight);
+    Eigen::Matrix<double, 3, 6> m;
+    m << r_level * pim.dp_dbg(), r_level * pim.dp_dba();
+    alignment.Add(tau, y, u, m, weight);
     const Alignment::Result r = alignment.Solve();
+    if (r.ok) best_sigma = std::min(best_sigma, r.yaw_sigma);
+    if (r.ok && r.yaw_sigma < kYawHintSigma &&
+        init->yaw_hint_stamp > fix.stamp) {
+      init->yaw_hint_stamp = fix.stamp;
+    }
     if (!r.ok || r.yaw_sigma > kMaxYawSigma) continue;
     init->yaw_observable = true;
     init->yaw_observable_stamp = fix.stamp;
@@ -291,7 +332,7 @@ bool InitializeInertial(const InertialData& data,
     break;
   }
 
-  char line[400];
+  char line[500];
   char still[80];
   if (init->still_start) {
     std::snprintf(still, sizeof(still), "still start of %.1f s",
@@ -313,9 +354,12 @@ bool InitializeInertial(const InertialData& data,
   } else {
     std::snprintf(line, sizeof(line),
                   "initializer: %s; yaw NOT observable from the %zu fixes "
-                  "(no horizontal acceleration seen, or too few fixes): "
-                  "the heading of every estimate is unknown",
-                  still, data.positions.size());
+                  "(the alignment's yaw sigma never fell below %.0f deg, "
+                  "smallest %.1f deg: too little horizontal acceleration "
+                  "to tell the heading from the biases and the tilt, or too "
+                  "few fixes): the heading of every estimate is unknown",
+                  still, data.positions.size(), kMaxYawSigma * 180.0 / M_PI,
+                  best_sigma * 180.0 / M_PI);
   }
   init->summary = line;
   return true;
