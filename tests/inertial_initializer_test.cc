@@ -375,8 +375,8 @@ double ReportAte(const std::string& report, const std::string& name) {
 // against 0.045 / 0.082 / 0.041). With the 10 Hz fixes the real-time
 // estimate from the default start is also consistent (the bar: mean
 // NEES after the first 10 s within 30 % of 3 for the position, within a
-// factor 1.5 of 6 for pose and bias; README: 3.67 / 7.71 / 5.84; with the
-// data sheet noise 5.80 / 70.1 / 64.1, and before the initializer
+// factor 1.5 of 6 for pose and bias; README: 3.67 / 7.52 / 5.22; with the
+// data sheet noise 5.34 / 57.4 / 48.8, and before the initializer
 // 4.67 / 20.1 / 62.3, both fail it).
 TEST(InertialInitializerTest, EurocDefaultStartMatchesTheGroundTruthStart) {
   const std::string euroc = testing::DatasetPath("imu_euroc_V1_02_40s");
