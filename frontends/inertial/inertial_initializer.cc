@@ -16,6 +16,14 @@ constexpr double kStillMaxGyroStd = 0.1;          // rad/s
 constexpr double kStillFixSigmas = 4.0;
 constexpr double kStillMaxGyroMeanChange = 0.005;  // rad/s
 constexpr double kStillMaxAccelMeanChange = 0.2;   // m/s^2
+// The fixes confirm a still start once a straight-line fit through them
+// bounds the velocity to this (1 sigma per axis, from the fix noise): a body
+// moving steadily at more than kStillFixSigmas times this is then seen to
+// move, whatever the IMU says (an IMU cannot tell a steady turn from a gyro
+// bias, nor a steady velocity from rest). With 0.1 m fixes at 10 Hz this
+// takes 1 s of fixes (0.6 m/s is rejected), at 1 Hz two.
+constexpr double kStillMaxVelocitySigma = 0.15;  // m/s
+constexpr double kStillMaxLookAheadSeconds = 1.0;
 constexpr int kMinAlignmentFixes = 5;
 
 struct Moments {
@@ -40,6 +48,49 @@ struct Moments {
   }
 };
 
+// A straight-line fit p(t) = mean + velocity (t - mean t) through fixes
+// (least squares per axis); time_spread = sum (t - mean t)^2 in s^2, so the
+// velocity's sigma per axis is the fix sigma / sqrt(time_spread).
+struct StillFixFit {
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
+  double time_spread = 0.0;
+};
+
+StillFixFit FitStillFixes(const std::vector<PositionFix>& fixes, TimeNs t0) {
+  StillFixFit fit;
+  if (fixes.empty()) return fit;
+  double mean_t = 0.0;
+  for (const PositionFix& p : fixes) {
+    fit.mean += p.position;
+    mean_t += NsToSeconds(p.stamp - t0);
+  }
+  fit.mean /= static_cast<double>(fixes.size());
+  mean_t /= static_cast<double>(fixes.size());
+  Eigen::Vector3d cross = Eigen::Vector3d::Zero();
+  for (const PositionFix& p : fixes) {
+    const double dt = NsToSeconds(p.stamp - t0) - mean_t;
+    fit.time_spread += dt * dt;
+    cross += dt * (p.position - fit.mean);
+  }
+  if (fit.time_spread > 0.0) fit.velocity = cross / fit.time_spread;
+  return fit;
+}
+
+// The sigma of the fit's velocity per axis under fixes of sigma
+// position_sigma (infinite with fewer than two distinct stamps).
+double VelocitySigma(const StillFixFit& fit, double position_sigma) {
+  return fit.time_spread > 0.0 ? position_sigma / std::sqrt(fit.time_spread)
+                               : std::numeric_limits<double>::infinity();
+}
+
+// The fixes show motion: a velocity beyond kStillFixSigmas of its sigma.
+bool ShowsMotion(const StillFixFit& fit, double position_sigma) {
+  return fit.time_spread > 0.0 &&
+         fit.velocity.cwiseAbs().maxCoeff() >
+             kStillFixSigmas * VelocitySigma(fit, position_sigma);
+}
+
 // End (exclusive sample index) of the still prefix, 0 when there is none.
 size_t StillPrefix(const InertialData& data, const InertialOptions& options,
                    double* seconds) {
@@ -48,7 +99,7 @@ size_t StillPrefix(const InertialData& data, const InertialOptions& options,
   const double g = options.gravity.norm();
   size_t end = 0;
   size_t s = 0;
-  std::vector<Eigen::Vector3d> fixes;
+  std::vector<PositionFix> fixes;
   size_t f = 0;
   while (f < data.positions.size() && data.positions[f].stamp < t0) ++f;
   Moments all;
@@ -77,21 +128,44 @@ size_t StillPrefix(const InertialData& data, const InertialOptions& options,
     all.accel_sum += m.accel_sum;
     all.gyro_sum += m.gyro_sum;
     all.n += m.n;
-    std::vector<Eigen::Vector3d> candidate = fixes;
-    while (f < data.positions.size() && data.positions[f].stamp < block_end) {
-      candidate.push_back(data.positions[f++].position);
+    std::vector<PositionFix> candidate = fixes;
+    size_t next = f;
+    while (next < data.positions.size() &&
+           data.positions[next].stamp < block_end) {
+      candidate.push_back(data.positions[next++]);
     }
-    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-    for (const Eigen::Vector3d& p : candidate) mean += p;
-    if (!candidate.empty()) mean /= static_cast<double>(candidate.size());
+    const StillFixFit fit = FitStillFixes(candidate, t0);
     bool spread_ok = true;
-    for (const Eigen::Vector3d& p : candidate) {
-      spread_ok = spread_ok && (p - mean).cwiseAbs().maxCoeff() <=
+    for (const PositionFix& p : candidate) {
+      spread_ok = spread_ok && (p.position - fit.mean).cwiseAbs().maxCoeff() <=
                                    kStillFixSigmas * options.position_sigma;
     }
-    if (!spread_ok) break;
+    if (!spread_ok || ShowsMotion(fit, options.position_sigma)) break;
     fixes = candidate;
+    f = next;
     if (fixes.size() >= 2) end = s;  // Confirmed by the fixes so far.
+  }
+  // The fixes must also bound the velocity over the still interval (a short
+  // one holds too few of them to see a steady motion): when they do not yet,
+  // the fixes that follow it join the fit until they do (a start from rest
+  // moves little in the first second; a steady motion shows), within
+  // kStillMaxLookAheadSeconds.
+  if (end > 0) {
+    const TimeNs look_ahead_end =
+        data.imu[end - 1].stamp +
+        static_cast<TimeNs>(kStillMaxLookAheadSeconds * 1e9);
+    StillFixFit fit = FitStillFixes(fixes, t0);
+    while (VelocitySigma(fit, options.position_sigma) >
+               kStillMaxVelocitySigma &&
+           f < data.positions.size() &&
+           data.positions[f].stamp <= look_ahead_end) {
+      fixes.push_back(data.positions[f++]);
+      fit = FitStillFixes(fixes, t0);
+    }
+    if (ShowsMotion(fit, options.position_sigma) ||
+        VelocitySigma(fit, options.position_sigma) > kStillMaxVelocitySigma) {
+      end = 0;  // Moving, or not confirmed.
+    }
   }
   *seconds = end == 0 ? 0.0 : NsToSeconds(data.imu[end - 1].stamp - t0);
   return end;
@@ -339,7 +413,7 @@ bool InitializeInertial(const InertialData& data,
                   init->still_seconds);
   } else {
     std::snprintf(still, sizeof(still),
-                  "no still start (moving, or not confirmed by 2 fixes)");
+                  "no still start (moving, or the fixes do not confirm it)");
   }
   const double t_obs = NsToSeconds(init->yaw_observable_stamp - t0);
   if (init->yaw_observable) {

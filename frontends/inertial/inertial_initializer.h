@@ -7,8 +7,12 @@
 // look like a body at rest (accelerometer norm within 0.5 m/s^2 of |g|,
 // accelerometer std below 1 m/s^2 and gyroscope std below 0.1 rad/s per axis:
 // tolerant of the vibration of a platform whose motors run) and the fixes in
-// it stay within 4 sigma of their mean (at least two fixes must confirm it:
-// an IMU cannot tell a slow steady turn from a gyroscope bias). Over the
+// it stay within 4 sigma of their mean and show no motion: a straight-line
+// fit through them has a velocity within 4 sigma of zero, and the still
+// start counts only once that sigma is at most 0.15 m/s (the fixes of up to
+// 1 s after a shorter still interval join the fit). An IMU cannot tell a
+// slow steady turn from a gyroscope bias: a start in steady motion whose
+// fixes show it is a moving start (bias from the configured prior). Over the
 // still interval: gyroscope bias = mean gyroscope reading, roll and pitch
 // from the mean accelerometer reading, velocity 0.
 //
