@@ -140,9 +140,10 @@ void PrintInitialization(const InertialRun& run) {
   } else if (run.filter_yaw_unknown > 0) {
     std::printf(
         "window_filter: the first %zu real-time estimates (%.2f s) have no "
-        "yaw information (heading arbitrary); then the window restarts from "
-        "the aligned state\n",
-        run.filter_yaw_unknown, run.yaw_observable_after_seconds);
+        "yaw information (heading arbitrary); then %s\n",
+        run.filter_yaw_unknown, run.yaw_observable_after_seconds,
+        run.yaw_from_window ? "the window's own estimate knows it"
+                            : "the window restarts from the aligned state");
   }
 }
 

@@ -3,6 +3,8 @@
 entries of configs/benchmarks/inertial.yaml and prints one table as markdown
 and CSV: ATE (position RMSE, no alignment) of the window's fixed-lag
 estimate, of its real-time (filter) estimate and of the batch, their ratio,
+the rotation APE (RMSE, deg, no alignment) of the real-time estimate, when
+the yaw became known (s after the start; empty when never),
 median and 99th-percentile per-update time of the window against the target,
 the batch time, and with ground truth that has biases (`gt: input` entries,
 simulated runs) the mean NEES of the window's real-time estimate after the
@@ -33,6 +35,7 @@ COLUMNS = [
     ("name", "run"), ("keyframes", "keyframes"), ("window_size", "window"),
     ("ate_window", "ATE window m"), ("ate_filter", "ATE filter m"),
     ("ate_batch", "ATE batch m"), ("ratio", "window/batch"),
+    ("rot_filter", "rotation filter deg"), ("yaw_known_s", "yaw known s"),
     ("nees_position", "NEES pos"), ("nees_pose", "NEES pose"),
     ("nees_pose_yaw", "NEES pose yaw-aligned"), ("nees_bias", "NEES bias"),
     ("median_ms", "update median ms"), ("p99_ms", "update p99 ms"),
@@ -96,6 +99,12 @@ def run_entry(entry, args, tmp, index):
                       ("ate_batch", "batch")):
         if name in evaluation:
             row[key] = evaluation[name]["ape_translation"]["rmse"]
+    if "window_filter" in evaluation:
+        row["rot_filter"] = \
+            evaluation["window_filter"]["ape_rotation"]["rmse"]
+    init = report.get("initialization", {})
+    if init.get("yaw_observable"):
+        row["yaw_known_s"] = init.get("yaw_observable_after_s")
     nees = evaluation.get("window_filter", {}).get("nees")
     if nees:
         row["nees_position"] = nees["position"]["mean"]

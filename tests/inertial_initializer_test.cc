@@ -11,23 +11,35 @@
 //     (warnings naming the file and line), through the binary;
 //   * keyframes at the IMU rate and at half of it;
 //   * real data (EuRoC V1_02, 40 s, skipped when absent): default start
-//     within 10 % of the ground-truth start's ATE, 10 Hz and 1 Hz fixes.
+//     within 10 % of the ground-truth start's ATE, 10 Hz and 1 Hz fixes;
+//   * flights as a MAV flies them in a small room, with the EuRoC noise
+//     settings (configs/inertial_euroc.yaml) in the simulation and the
+//     estimator: a gentle one (horizontal accelerations 0.2-0.5 m/s^2, slow
+//     yaw changes) aligns its yaw within 10 s; on flights of different
+//     character (gentle, brisk, long) the real-time estimate's rotation error
+//     stays within 3 deg once aligned and its NEES of position and bias
+//     within the targets; hover and pure vertical motion leave the yaw
+//     unobservable, and say so.
 #include "frontends/inertial/inertial_initializer.h"
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <cmath>
 #include <cstdio>
+#include <iterator>
 #include <string>
 #include <vector>
 
 #include <yaml-cpp/yaml.h>
 
+#include "apps/inertial_config.h"
 #include "datasets/imu_io.h"
 #include "datasets/inertial_simulator.h"
 #include "datasets/inertial_trajectory.h"
+#include "frontends/inertial/inertial_consistency.h"
 #include "frontends/inertial/inertial_estimator.h"
 #include "gtest/gtest.h"
+#include "tests/test_random.h"
 #include "tests/test_util.h"
 
 namespace slam {
@@ -363,8 +375,8 @@ double ReportAte(const std::string& report, const std::string& name) {
 // against 0.045 / 0.082 / 0.041). With the 10 Hz fixes the real-time
 // estimate from the default start is also consistent (the bar: mean
 // NEES after the first 10 s within 30 % of 3 for the position, within a
-// factor 1.5 of 6 for pose and bias; README: 3.67 / 7.71 / 5.84; with the
-// data sheet noise 5.80 / 70.1 / 64.1, and before the initializer
+// factor 1.5 of 6 for pose and bias; README: 3.67 / 7.52 / 5.22; with the
+// data sheet noise 5.34 / 57.4 / 48.8, and before the initializer
 // 4.67 / 20.1 / 62.3, both fail it).
 TEST(InertialInitializerTest, EurocDefaultStartMatchesTheGroundTruthStart) {
   const std::string euroc = testing::DatasetPath("imu_euroc_V1_02_40s");
@@ -434,6 +446,269 @@ TEST(InertialInitializerTest, EurocDefaultStartMatchesTheGroundTruthStart) {
     EXPECT_LT(pose, 1.5 * 6.0);
     EXPECT_GT(bias, 6.0 / 1.5);
     EXPECT_LT(bias, 1.5 * 6.0);
+  }
+}
+
+// The settings users run EuRoC with (configs/inertial_euroc.yaml), as the
+// estimator uses them (data sheet densities x inflation).
+InertialOptions EurocOptions() {
+  InertialConfig config;
+  std::string error;
+  EXPECT_TRUE(LoadInertialConfig(testing::ConfigPath("inertial_euroc.yaml"),
+                                 &config, &error))
+      << error;
+  return EffectiveInertialOptions(config);
+}
+
+// A flight with the EuRoC noise: the simulated readings get the densities
+// the EuRoC config gives the estimator, biases of the ADIS16448's size (gyro
+// a few 0.01 rad/s, accelerometer about 0.1 m/s^2, drawn per seed), 10 Hz
+// fixes of 0.1 m per axis.
+InertialData SimulateFlight(const SmoothTrajectory& trajectory, double duration,
+                            unsigned seed) {
+  const InertialOptions options = EurocOptions();
+  InertialSimulationConfig config;
+  config.duration = duration;
+  config.position_rate = 10.0;
+  config.position_sigma = options.position_sigma;
+  config.noise = options.noise;
+  config.seed = seed;
+  testing::TestRng rng(seed);
+  for (int i = 0; i < 3; ++i) {
+    config.initial_gyro_bias[i] = rng.Uniform(-0.03, 0.03);
+    config.initial_accel_bias[i] = rng.Uniform(-0.1, 0.1);
+  }
+  InertialData data;
+  std::string error;
+  EXPECT_TRUE(SimulateInertial(config, trajectory, &data, &error)) << error;
+  data.has_initial_state = false;
+  return data;
+}
+
+// A gentle flight: a Lissajous figure in a room of 5 x 4 m with
+// horizontal accelerations of 0.2-0.5 m/s^2 most of the time (peaks 0.31
+// and 0.41 m/s^2 per axis), height +- 0.3 m, yaw swinging +- 35 deg over a
+// minute, the tilt of a multirotor accelerating that gently.
+LissajousParams GentleFlight() {
+  LissajousParams p;
+  p.center = Eigen::Vector3d(0.0, 0.0, 1.5);
+  p.amplitude = Eigen::Vector3d(2.5, 2.0, 0.3);
+  p.frequency = Eigen::Vector3d(0.35, 0.45, 0.3);
+  p.phase = Eigen::Vector3d(0.0, 0.0, 0.0);
+  p.yaw_rate = 0.0;
+  p.yaw_amplitude = 0.6;
+  p.yaw_frequency = 0.1;
+  p.pitch_amplitude = 0.03;
+  p.pitch_frequency = 0.35;
+  p.roll_amplitude = 0.03;
+  p.roll_frequency = 0.45;
+  return p;
+}
+
+// A brisker flight: twice the gentle figure's speed, yaw turning steadily.
+LissajousParams BriskFlight() {
+  LissajousParams p = GentleFlight();
+  p.frequency *= 1.6;
+  p.yaw_rate = 0.15;
+  p.yaw_amplitude = 0.3;
+  p.yaw_frequency = 0.3;
+  p.pitch_amplitude = 0.08;
+  p.roll_amplitude = 0.08;
+  return p;
+}
+
+// The real-time estimate's rotation error (rmse, deg) and NEES after the
+// first 15 s (the yaw is known by then on these flights).
+bool FiguresAfter15s(const InertialData& data, const InertialRun& run,
+                     double* rotation_rmse, NeesSummary* nees,
+                     std::string* error) {
+  constexpr double kSkipSeconds = 15.0;
+  size_t from = 0;
+  while (from < run.filter.size() &&
+         NsToSeconds(run.filter[from].stamp - data.imu.front().stamp) <
+             kSkipSeconds) {
+    ++from;
+  }
+  *rotation_rmse = RotationRmseDeg(data, run.filter, from);
+  NeesOptions nees_options;
+  nees_options.skip_seconds = kSkipSeconds;
+  return SummarizeNees(run.filter, run.newest_covariance, data.ground_truth,
+                       nees_options, nees, error);
+}
+
+TEST(InertialFlightTest, GentleFlightAlignsTheYawWithinTenSeconds) {
+  const InertialOptions options = EurocOptions();
+  for (unsigned seed : {11u, 12u}) {
+    const StillThenMoving trajectory(1.0, 4.0, 140.0 * kDeg, GentleFlight());
+    const InertialData data = SimulateFlight(trajectory, 60.0, seed);
+    InertialRun run;
+    std::string error;
+    ASSERT_TRUE(RunSlidingWindow(data, options, &run, nullptr, &error))
+        << error;
+    std::printf("seed %u: %s; yaw observable after %.2f s\n", seed,
+                run.initialization_summary.c_str(),
+                run.yaw_observable_after_seconds);
+    ASSERT_TRUE(run.yaw_observable) << run.initialization_summary;
+    EXPECT_LT(run.yaw_observable_after_seconds, 10.0);
+    const double rmse =
+        RotationRmseDeg(data, run.filter, run.filter_yaw_unknown);
+    std::printf(
+        "seed %u: real-time rotation error %.2f deg rmse once the yaw "
+        "is observable\n",
+        seed, rmse);
+    EXPECT_LT(rmse, 3.0);
+  }
+}
+
+// Flights of different character from the initializer's start, with the
+// EuRoC settings: each flight's yaw known within 15 s, its real-time
+// estimate's NEES (after 15 s) of position within 2.1-3.9 and of pose and
+// bias within a factor 2 of 6; on average over the flights, the rotation
+// error (rmse after 15 s) within 3 deg and the bias NEES within a factor
+// 1.5 of 6 (the gentle flights carry little yaw information: the window's
+// yaw sigma stays near 3 deg on them). (One
+// flight's NEES is the mean over strongly correlated keyframes: a single
+// run scatters more than the mean over runs. Before the alignment modelled
+// the biases, a trial of these flights with a 2 s ramp aligned the second
+// one 14 deg off while claiming a sigma of 6 deg: rotation 7.0 deg, bias
+// NEES 12.6 on it.)
+TEST(InertialFlightTest,
+     RealTimeEstimateIsConsistentOnFlightsOfDifferentKinds) {
+  InertialOptions options = EurocOptions();
+  options.newest_covariance = true;
+  struct Flight {
+    const char* name;
+    LissajousParams params;
+    double duration;
+    unsigned seed;
+  };
+  const Flight flights[] = {{"gentle", GentleFlight(), 60.0, 21},
+                            {"gentle", GentleFlight(), 60.0, 22},
+                            {"brisk", BriskFlight(), 60.0, 23},
+                            {"gentle, long", GentleFlight(), 150.0, 24}};
+  double rotation = 0.0, bias = 0.0;
+  for (const Flight& flight : flights) {
+    const StillThenMoving trajectory(1.0, 4.0, -60.0 * kDeg, flight.params);
+    const InertialData data =
+        SimulateFlight(trajectory, flight.duration, flight.seed);
+    InertialRun run;
+    std::string error;
+    ASSERT_TRUE(RunSlidingWindow(data, options, &run, nullptr, &error))
+        << error;
+    ASSERT_TRUE(run.yaw_observable) << run.initialization_summary;
+    double rmse = 0.0;
+    NeesSummary nees;
+    ASSERT_TRUE(FiguresAfter15s(data, run, &rmse, &nees, &error)) << error;
+    std::printf(
+        "%s flight, seed %u: yaw observable after %.2f s, rotation "
+        "%.2f deg rmse, NEES position %.2f pose %.2f bias %.2f\n",
+        flight.name, flight.seed, run.yaw_observable_after_seconds, rmse,
+        nees.position.mean, nees.pose.mean, nees.bias.mean);
+    EXPECT_LT(run.yaw_observable_after_seconds, 15.0) << flight.name;
+    EXPECT_GT(nees.position.mean, 2.1) << flight.name;
+    EXPECT_LT(nees.position.mean, 3.9) << flight.name;
+    for (double value : {nees.pose.mean, nees.bias.mean}) {
+      EXPECT_GT(value, 6.0 / 2.0) << flight.name;
+      EXPECT_LT(value, 6.0 * 2.0) << flight.name;
+    }
+    rotation += rmse / std::size(flights);
+    bias += nees.bias.mean / std::size(flights);
+  }
+  std::printf(
+      "mean over the flights: rotation %.2f deg rmse, bias NEES "
+      "%.2f\n",
+      rotation, bias);
+  EXPECT_LT(rotation, 3.0);
+  EXPECT_GT(bias, 6.0 / 1.5);
+  EXPECT_LT(bias, 6.0 * 1.5);
+}
+
+// A flight already under way when the log starts: 1.3 m/s, turning at
+// 0.06 rad/s with nearly no acceleration, so the readings of its first
+// second look like a body at rest with a gyro bias of the turn rate. The
+// fixes show the motion (1.3 m in that second): the start is not still, the
+// gyro bias is not taken from the readings and the velocity comes from the
+// alignment. (Before the fixes' velocity was checked, the still test took
+// the first second, the gyro bias took the turn and the window stayed
+// inconsistent: rotation 30-60 deg rmse, bias NEES in the hundreds.)
+TEST(InertialFlightTest, SteadilyMovingStartIsNotTakenForStill) {
+  InertialOptions options = EurocOptions();
+  options.newest_covariance = true;
+  for (unsigned seed : {41u, 42u}) {
+    const StillThenMoving trajectory(0.0, 0.0, -60.0 * kDeg, GentleFlight());
+    const InertialData data = SimulateFlight(trajectory, 60.0, seed);
+    const InertialGroundTruth& truth = data.ground_truth.front();
+    ASSERT_GT(truth.velocity.norm(), 1.2);
+    InertialInitialization init;
+    std::string error;
+    ASSERT_TRUE(InitializeInertial(data, options, &init, &error)) << error;
+    std::printf("seed %u: %s\n", seed, init.summary.c_str());
+    EXPECT_FALSE(init.still_start) << init.summary;
+    ASSERT_TRUE(init.yaw_observable) << init.summary;
+    // The velocity from the alignment, nearer the truth than a still
+    // start's zero. (Its claimed sigma is smaller than the error on seed 42:
+    // 0.06 m/s against 0.56, aligned 13.4 s in; the window recovers.)
+    const double velocity_error =
+        (init.state.state.velocity - truth.velocity).norm();
+    std::printf("seed %u: start velocity error %.2f m/s, sigma %.2f\n", seed,
+                velocity_error, init.velocity_sigma);
+    EXPECT_LT(velocity_error, 0.5 * truth.velocity.norm());
+    InertialRun run;
+    ASSERT_TRUE(RunSlidingWindow(data, options, &run, nullptr, &error))
+        << error;
+    double rmse = 0.0;
+    NeesSummary nees;
+    ASSERT_TRUE(FiguresAfter15s(data, run, &rmse, &nees, &error)) << error;
+    std::printf(
+        "seed %u: yaw observable after %.2f s, rotation %.2f deg rmse "
+        "(after 15 s), NEES position %.2f pose %.2f bias %.2f\n",
+        seed, run.yaw_observable_after_seconds, rmse, nees.position.mean,
+        nees.pose.mean, nees.bias.mean);
+    EXPECT_LT(run.yaw_observable_after_seconds, 15.0);
+    EXPECT_LT(rmse, 8.0);
+    EXPECT_LT(nees.pose.mean, 6.0 * 2.0);
+    EXPECT_LT(nees.bias.mean, 6.0 * 2.0);
+    EXPECT_LT(nees.position.mean, 3.9);
+  }
+}
+
+// Hovering in place, or moving only up and down: no horizontal
+// acceleration, so neither the alignment nor the window can know the
+// heading; both say so.
+class VerticalOnly : public SmoothTrajectory {
+ public:
+  explicit VerticalOnly(double amplitude) : amplitude_(amplitude) {}
+  TrajectorySample Evaluate(double t) const override {
+    constexpr double kW = 0.8;  // rad/s
+    TrajectorySample s;
+    s.pose = Pose3(
+        Eigen::Vector3d(1.0, 2.0, 1.5 + amplitude_ * std::sin(kW * t)),
+        Eigen::Quaterniond(Eigen::AngleAxisd(0.7, Eigen::Vector3d::UnitZ())));
+    s.velocity = Eigen::Vector3d(0.0, 0.0, amplitude_ * kW * std::cos(kW * t));
+    s.acceleration =
+        Eigen::Vector3d(0.0, 0.0, -amplitude_ * kW * kW * std::sin(kW * t));
+    return s;
+  }
+  double duration() const override { return 1e9; }
+
+ private:
+  double amplitude_;
+};
+
+TEST(InertialFlightTest, HoverAndVerticalMotionLeaveTheYawUnobservable) {
+  const InertialOptions options = EurocOptions();
+  for (double amplitude : {0.0, 0.5}) {
+    const InertialData data = SimulateFlight(VerticalOnly(amplitude), 40.0, 31);
+    InertialRun run;
+    std::string error;
+    ASSERT_TRUE(RunSlidingWindow(data, options, &run, nullptr, &error))
+        << error;
+    std::printf("vertical amplitude %.1f m: %s\n", amplitude,
+                run.initialization_summary.c_str());
+    EXPECT_FALSE(run.yaw_observable) << amplitude;
+    EXPECT_EQ(run.filter_yaw_unknown, run.filter.size()) << amplitude;
+    EXPECT_TRUE(Contains(run.initialization_summary, "NOT observable"))
+        << run.initialization_summary;
   }
 }
 

@@ -296,14 +296,29 @@ bool PlanKeyframes(const InertialData& data, double keyframe_rate_hz,
 
 namespace {
 
+// Standard deviation of the rotation about the world vertical (yaw) of the
+// state `s` under the 15 x 15 covariance `c` (rho, phi, ...; phi the body
+// right perturbation): a world rotation by psi about up is phi = psi R^T up.
+double YawSigma(const InertialState& s, const Eigen::MatrixXd& c,
+                const Eigen::Vector3d& gravity) {
+  Eigen::Vector3d up = -gravity;
+  if (up.norm() < 1e-9) up = Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d u = s.state.pose.q.conjugate() * up.normalized();
+  return std::sqrt(std::max(0.0, u.dot(c.block<3, 3>(3, 3) * u)));
+}
+
 // One pass of the sliding window from `guess` over keyframes [0, k_end):
 // the filter states (and covariances) into *run; with `finish`, the
-// smoothed states of all keyframes too.
+// smoothed states of all keyframes too. With `yaw_known_at` (a pass without
+// yaw information): the first keyframe from `yaw_hint_stamp` on whose
+// newest-state yaw sigma is below kMaxYawSigma goes there (k_end when none
+// is).
 bool RunWindowPass(const InertialData& data, const KeyframePlan& plan,
                    const InertialOptions& options, const InitialGuess& guess,
                    size_t k_end, bool finish, const char* label,
-                   InertialRun* run, std::ostream* progress,
-                   std::string* error) {
+                   InertialRun* run, std::ostream* progress, std::string* error,
+                   size_t* yaw_known_at = nullptr, TimeNs yaw_hint_stamp = 0) {
+  if (yaw_known_at != nullptr) *yaw_known_at = k_end;
   SlidingWindowOptions window_options = options.window;
   window_options.prior_builder = MakeMarginalizationPrior;
   window_options.final_covariances = options.smoothed_covariance;
@@ -340,14 +355,19 @@ bool RunWindowPass(const InertialData& data, const KeyframePlan& plan,
       return false;
     }
     run->filter.push_back(GraphState(window.graph(), id, stamp));
-    if (options.newest_covariance) {
+    const bool track_yaw = yaw_known_at != nullptr && *yaw_known_at == k_end;
+    if (options.newest_covariance || track_yaw) {
       Eigen::MatrixXd c;
       if (!window.JointCovariance(
               {Pose3Key(id), VelocityKey(id), ImuBiasKey(id)}, &c, error)) {
         *error = "keyframe " + std::to_string(k) + ": " + *error;
         return false;
       }
-      run->newest_covariance.push_back(c);
+      if (track_yaw && stamp >= yaw_hint_stamp &&
+          YawSigma(run->filter.back(), c, options.gravity) < kMaxYawSigma) {
+        *yaw_known_at = k;
+      }
+      if (options.newest_covariance) run->newest_covariance.push_back(c);
     }
     if (progress != nullptr && (k + 1) * 10 >= next_report * n) {
       const TimingSummary t = SummarizeTimes(window.update_seconds());
@@ -426,21 +446,23 @@ bool RunSlidingWindow(const InertialData& data, const InertialOptions& options,
     }
     if (!init.yaw_observable) k_obs = n;
   }
-  run->filter_yaw_unknown = k_obs;
   InertialRun pass_a;
+  // The pass without yaw information also watches its own yaw sigma: a
+  // window that knows the yaw before the alignment does publishes its
+  // estimates as known from then on.
+  size_t k_window = k_obs;
   if (k_obs > 0) {
     if (!RunWindowPass(data, plan, options,
                        YawUnknownGuess(data, options, guess, init), k_obs,
                        k_obs == n, "window (yaw unknown)", &pass_a, progress,
-                       error)) {
+                       error, &k_window, init.yaw_hint_stamp)) {
       return false;
     }
   }
-  if (k_obs == n) {  // The yaw never became observable.
+  if (k_obs == n) {  // The alignment never succeeded.
     pass_a.initialization_summary = run->initialization_summary;
     pass_a.yaw_observable = run->yaw_observable;
     pass_a.yaw_observable_after_seconds = run->yaw_observable_after_seconds;
-    pass_a.filter_yaw_unknown = n;
     *run = std::move(pass_a);
   } else {
     if (!RunWindowPass(data, plan, options, guess, n, true, "window", run,
@@ -461,6 +483,21 @@ bool RunSlidingWindow(const InertialData& data, const InertialOptions& options,
       }
       run->update_seconds[k_obs] = catch_up;
     }
+  }
+  run->filter_yaw_unknown = std::min(k_window, k_obs);
+  if (k_window < k_obs) {
+    run->yaw_observable = true;
+    run->yaw_from_window = true;
+    run->yaw_observable_after_seconds = NsToSeconds(
+        data.imu[plan.sample[k_window]].stamp - data.imu.front().stamp);
+    char line[200];
+    std::snprintf(line, sizeof(line),
+                  "; the window's own yaw sigma fell below %.0f deg after "
+                  "%.2f s (keyframe %zu): its estimates know the yaw from then "
+                  "on",
+                  kMaxYawSigma * 180.0 / M_PI,
+                  run->yaw_observable_after_seconds, k_window);
+    run->initialization_summary += line;
   }
   run->total_seconds = SecondsSince(start);
   if (progress != nullptr) {

@@ -42,7 +42,10 @@ namespace slam {
 // observable come from a pass without yaw information; when the alignment
 // succeeds, the window restarts from the aligned state (a catch-up over the
 // keyframes so far) and its estimates follow from there; the batch starts
-// from dead reckoning from the aligned state.
+// from dead reckoning from the aligned state. The pass without yaw
+// information knows the yaw itself once its newest state's yaw sigma is
+// below kMaxYawSigma (inertial_initializer.h): from that keyframe on its
+// estimates count as knowing the yaw (until the alignment, if it comes).
 struct InertialOptions {
   double keyframe_rate_hz = 10.0;
   ImuBias initial_bias = ImuBias::Zero();  // Prior mean of the first bias.
@@ -93,8 +96,12 @@ struct InertialRun {
   // became observable and after how many seconds of data; the first
   // filter_yaw_unknown `filter` states were estimated without yaw
   // information (their heading is arbitrary, their covariance says so).
+  // yaw_from_window: the yaw became known from the window's own estimate
+  // (its newest state's yaw sigma below kMaxYawSigma) before the alignment
+  // had it; the estimates from then on are that window's.
   std::string initialization_summary;
   bool yaw_observable = true;
+  bool yaw_from_window = false;
   double yaw_observable_after_seconds = 0.0;
   size_t filter_yaw_unknown = 0;
 };

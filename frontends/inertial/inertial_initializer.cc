@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 namespace slam {
 namespace {
@@ -15,6 +16,14 @@ constexpr double kStillMaxGyroStd = 0.1;          // rad/s
 constexpr double kStillFixSigmas = 4.0;
 constexpr double kStillMaxGyroMeanChange = 0.005;  // rad/s
 constexpr double kStillMaxAccelMeanChange = 0.2;   // m/s^2
+// The fixes confirm a still start once a straight-line fit through them
+// bounds the velocity to this (1 sigma per axis, from the fix noise): a body
+// moving steadily at more than kStillFixSigmas times this is then seen to
+// move, whatever the IMU says (an IMU cannot tell a steady turn from a gyro
+// bias, nor a steady velocity from rest). With 0.1 m fixes at 10 Hz this
+// takes 1 s of fixes (0.6 m/s is rejected), at 1 Hz two.
+constexpr double kStillMaxVelocitySigma = 0.15;  // m/s
+constexpr double kStillMaxLookAheadSeconds = 1.0;
 constexpr int kMinAlignmentFixes = 5;
 
 struct Moments {
@@ -39,6 +48,49 @@ struct Moments {
   }
 };
 
+// A straight-line fit p(t) = mean + velocity (t - mean t) through fixes
+// (least squares per axis); time_spread = sum (t - mean t)^2 in s^2, so the
+// velocity's sigma per axis is the fix sigma / sqrt(time_spread).
+struct StillFixFit {
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
+  double time_spread = 0.0;
+};
+
+StillFixFit FitStillFixes(const std::vector<PositionFix>& fixes, TimeNs t0) {
+  StillFixFit fit;
+  if (fixes.empty()) return fit;
+  double mean_t = 0.0;
+  for (const PositionFix& p : fixes) {
+    fit.mean += p.position;
+    mean_t += NsToSeconds(p.stamp - t0);
+  }
+  fit.mean /= static_cast<double>(fixes.size());
+  mean_t /= static_cast<double>(fixes.size());
+  Eigen::Vector3d cross = Eigen::Vector3d::Zero();
+  for (const PositionFix& p : fixes) {
+    const double dt = NsToSeconds(p.stamp - t0) - mean_t;
+    fit.time_spread += dt * dt;
+    cross += dt * (p.position - fit.mean);
+  }
+  if (fit.time_spread > 0.0) fit.velocity = cross / fit.time_spread;
+  return fit;
+}
+
+// The sigma of the fit's velocity per axis under fixes of sigma
+// position_sigma (infinite with fewer than two distinct stamps).
+double VelocitySigma(const StillFixFit& fit, double position_sigma) {
+  return fit.time_spread > 0.0 ? position_sigma / std::sqrt(fit.time_spread)
+                               : std::numeric_limits<double>::infinity();
+}
+
+// The fixes show motion: a velocity beyond kStillFixSigmas of its sigma.
+bool ShowsMotion(const StillFixFit& fit, double position_sigma) {
+  return fit.time_spread > 0.0 &&
+         fit.velocity.cwiseAbs().maxCoeff() >
+             kStillFixSigmas * VelocitySigma(fit, position_sigma);
+}
+
 // End (exclusive sample index) of the still prefix, 0 when there is none.
 size_t StillPrefix(const InertialData& data, const InertialOptions& options,
                    double* seconds) {
@@ -47,7 +99,7 @@ size_t StillPrefix(const InertialData& data, const InertialOptions& options,
   const double g = options.gravity.norm();
   size_t end = 0;
   size_t s = 0;
-  std::vector<Eigen::Vector3d> fixes;
+  std::vector<PositionFix> fixes;
   size_t f = 0;
   while (f < data.positions.size() && data.positions[f].stamp < t0) ++f;
   Moments all;
@@ -76,21 +128,44 @@ size_t StillPrefix(const InertialData& data, const InertialOptions& options,
     all.accel_sum += m.accel_sum;
     all.gyro_sum += m.gyro_sum;
     all.n += m.n;
-    std::vector<Eigen::Vector3d> candidate = fixes;
-    while (f < data.positions.size() && data.positions[f].stamp < block_end) {
-      candidate.push_back(data.positions[f++].position);
+    std::vector<PositionFix> candidate = fixes;
+    size_t next = f;
+    while (next < data.positions.size() &&
+           data.positions[next].stamp < block_end) {
+      candidate.push_back(data.positions[next++]);
     }
-    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-    for (const Eigen::Vector3d& p : candidate) mean += p;
-    if (!candidate.empty()) mean /= static_cast<double>(candidate.size());
+    const StillFixFit fit = FitStillFixes(candidate, t0);
     bool spread_ok = true;
-    for (const Eigen::Vector3d& p : candidate) {
-      spread_ok = spread_ok && (p - mean).cwiseAbs().maxCoeff() <=
+    for (const PositionFix& p : candidate) {
+      spread_ok = spread_ok && (p.position - fit.mean).cwiseAbs().maxCoeff() <=
                                    kStillFixSigmas * options.position_sigma;
     }
-    if (!spread_ok) break;
+    if (!spread_ok || ShowsMotion(fit, options.position_sigma)) break;
     fixes = candidate;
+    f = next;
     if (fixes.size() >= 2) end = s;  // Confirmed by the fixes so far.
+  }
+  // The fixes must also bound the velocity over the still interval (a short
+  // one holds too few of them to see a steady motion): when they do not yet,
+  // the fixes that follow it join the fit until they do (a start from rest
+  // moves little in the first second; a steady motion shows), within
+  // kStillMaxLookAheadSeconds.
+  if (end > 0) {
+    const TimeNs look_ahead_end =
+        data.imu[end - 1].stamp +
+        static_cast<TimeNs>(kStillMaxLookAheadSeconds * 1e9);
+    StillFixFit fit = FitStillFixes(fixes, t0);
+    while (VelocitySigma(fit, options.position_sigma) >
+               kStillMaxVelocitySigma &&
+           f < data.positions.size() &&
+           data.positions[f].stamp <= look_ahead_end) {
+      fixes.push_back(data.positions[f++]);
+      fit = FitStillFixes(fixes, t0);
+    }
+    if (ShowsMotion(fit, options.position_sigma) ||
+        VelocitySigma(fit, options.position_sigma) > kStillMaxVelocitySigma) {
+      end = 0;  // Moving, or not confirmed.
+    }
   }
   *seconds = end == 0 ? 0.0 : NsToSeconds(data.imu[end - 1].stamp - t0);
   return end;
@@ -98,28 +173,55 @@ size_t StillPrefix(const InertialData& data, const InertialOptions& options,
 
 // Normal equations of the alignment with roll and pitch known: u = R_tilt
 // (dp + dR lever_arm) rotated by the yaw psi about the vertical,
-// (c, s) = (cos psi, sin psi):
-//   horizontal: y_x = p0x + v0x t + c u_x - s u_y + e_x u_z,
-//               y_y = p0y + v0y t + s u_x + c u_y + e_y u_z  (8 unknowns;
-//               e: a small tilt error (or constant horizontal
-//               accelerometer error) acting on the large vertical u_z),
+// (c, s) = (cos psi, sin psi), and the readings' bias error db (gyro, accel;
+// against the bias the readings were integrated with) acting through the
+// preintegration's bias Jacobians, M = R_tilt [dp_dbg dp_dba] (3 x 6). The
+// world-frame effect Rz(psi) M db is bilinear in (c, s) and db; with
+// q = c db and r = s db it is linear:
+//   horizontal: y_x = p0x + v0x t + c u_x - s u_y + e_x u_z + M_x q - M_y r,
+//               y_y = p0y + v0y t + s u_x + c u_y + e_y u_z + M_y q + M_x r
+//               (20 unknowns; e: a small tilt error (or constant horizontal
+//               accelerometer error in the world frame) acting on the large
+//               vertical u_z; q, r: a bias in the body frame, which turns in
+//               the world frame as the body turns),
 //   vertical:   y_z = p0z + v0z t + u_z + 1/2 b t^2  (3 unknowns; b absorbs
 //               the accelerometer's error along the vertical).
+// e, q and r have zero-mean priors (the tilt and bias sigmas; |q|, |r| <=
+// |db|): without turning, a body-frame bias and the tilt error look alike,
+// and the priors say how much of the motion either may explain. The yaw
+// sigma is the marginal of (c, s) across their direction under that
+// information (the inverse of the normal matrix with the priors), so it
+// counts what the bias and tilt may take away from the yaw.
 struct Alignment {
-  using Vec8 = Eigen::Matrix<double, 8, 1>;
-  using Mat8 = Eigen::Matrix<double, 8, 8>;
-  Mat8 normal = Mat8::Zero();
-  Vec8 rhs = Vec8::Zero();
+  static constexpr int kH = 20;
+  using VecH = Eigen::Matrix<double, kH, 1>;
+  using MatH = Eigen::Matrix<double, kH, kH>;
+  MatH normal = MatH::Zero();
+  MatH prior = MatH::Zero();
+  VecH rhs = VecH::Zero();
   Eigen::Matrix3d normal_z = Eigen::Matrix3d::Zero();
   Eigen::Vector3d rhs_z = Eigen::Vector3d::Zero();
   double yy = 0.0;
   int fixes = 0;
 
+  Alignment(double tilt_sigma, double gyro_bias_sigma,
+            double accel_bias_sigma) {
+    prior.diagonal().segment<2>(6).setConstant(1.0 / (tilt_sigma * tilt_sigma));
+    for (int block : {8, 14}) {
+      prior.diagonal().segment<3>(block).setConstant(
+          1.0 / (gyro_bias_sigma * gyro_bias_sigma));
+      prior.diagonal().segment<3>(block + 3).setConstant(
+          1.0 / (accel_bias_sigma * accel_bias_sigma));
+    }
+  }
+
   void Add(double tau, const Eigen::Vector3d& y, const Eigen::Vector3d& u,
-           double weight) {
-    Vec8 ax, ay;
-    ax << 1.0, 0.0, tau, 0.0, u.x(), -u.y(), u.z(), 0.0;
-    ay << 0.0, 1.0, 0.0, tau, u.y(), u.x(), 0.0, u.z();
+           const Eigen::Matrix<double, 3, 6>& m, double weight) {
+    VecH ax, ay;
+    ax << 1.0, 0.0, tau, 0.0, u.x(), -u.y(), u.z(), 0.0, m.row(0).transpose(),
+        -m.row(1).transpose();
+    ay << 0.0, 1.0, 0.0, tau, u.y(), u.x(), 0.0, u.z(), m.row(1).transpose(),
+        m.row(0).transpose();
     normal += weight * (ax * ax.transpose() + ay * ay.transpose());
     rhs += weight * (ax * y.x() + ay * y.y());
     yy += weight * (y.x() * y.x() + y.y() * y.y());
@@ -139,14 +241,14 @@ struct Alignment {
   Result Solve() const {
     Result r;
     if (fixes < kMinAlignmentFixes) return r;
-    Eigen::LDLT<Mat8> ldlt(normal);
+    Eigen::LDLT<MatH> ldlt(normal + prior);
     Eigen::LDLT<Eigen::Matrix3d> ldlt_z(normal_z);
     if (ldlt.info() != Eigen::Success || ldlt_z.info() != Eigen::Success) {
       return r;
     }
-    const Vec8 x = ldlt.solve(rhs);
+    const VecH x = ldlt.solve(rhs);
     const Eigen::Vector3d xz = ldlt_z.solve(rhs_z);
-    const Mat8 cov = ldlt.solve(Mat8::Identity());
+    const MatH cov = ldlt.solve(MatH::Identity());
     if (!x.allFinite() || !xz.allFinite() || !cov.allFinite()) return r;
     const int dof = 2 * fixes - 8;
     const double chi2 = yy - x.dot(rhs);
@@ -159,7 +261,7 @@ struct Alignment {
     r.yaw = std::atan2(cs.y(), cs.x());
     r.yaw_sigma =
         std::sqrt(scale * across.dot(cov.block<2, 2>(4, 4) * across)) / norm;
-    r.tilt_error = x.tail<2>();
+    r.tilt_error = x.segment<2>(6);
     r.p0 = Eigen::Vector3d(x[0], x[1], xz[0]);
     r.v0 = Eigen::Vector3d(x[2], x[3], xz[1]);
     const Eigen::Matrix3d cov_z = ldlt_z.solve(Eigen::Matrix3d::Identity());
@@ -211,8 +313,11 @@ bool InitializeInertial(const InertialData& data,
   init->still_start = still_end > 0;
   if (init->still_start) {
     init->state.bias.head<3>() = first.GyroMean();
-    // The spread of the mean (vibration is not white: a floor).
-    init->gyro_bias_sigma = 2e-3;
+    // The spread of the mean under the gyroscope's white noise (vibration
+    // is not white: a floor).
+    init->gyro_bias_sigma =
+        std::max(2e-3, options.noise.gyro_noise_density /
+                           std::sqrt(std::max(init->still_seconds, 0.1)));
     init->tilt_sigma = 0.02;  // An accelerometer bias of 0.2 m/s^2.
     init->velocity_sigma = 0.05;
   } else {
@@ -236,11 +341,14 @@ bool InitializeInertial(const InertialData& data,
           .toRotationMatrix();
   const Eigen::Matrix3d r_level = level * r_tilt;
   init->yaw_observable_stamp = data.imu.back().stamp;
+  init->yaw_hint_stamp = std::numeric_limits<TimeNs>::max();
 
   // In-motion alignment over the fixes, in time order.
   PreintegratedImu pim(options.noise, init->state.bias, options.gravity);
   TimeNs integrated_to = t0;
-  Alignment alignment;
+  double best_sigma = M_PI;  // The smallest yaw sigma of the fit so far.
+  Alignment alignment(init->tilt_sigma, init->gyro_bias_sigma,
+                      init->accel_bias_sigma);
   const double weight = 1.0 / (options.position_sigma * options.position_sigma);
   for (; f < data.positions.size(); ++f) {
     const PositionFix& fix = data.positions[f];
@@ -257,8 +365,15 @@ bool InitializeInertial(const InertialData& data,
         level * (fix.position - 0.5 * options.gravity * tau * tau);
     const Eigen::Vector3d u =
         r_level * (pim.delta_p() + pim.delta_q() * options.lever_arm);
-    alignment.Add(tau, y, u, weight);
+    Eigen::Matrix<double, 3, 6> m;
+    m << r_level * pim.dp_dbg(), r_level * pim.dp_dba();
+    alignment.Add(tau, y, u, m, weight);
     const Alignment::Result r = alignment.Solve();
+    if (r.ok) best_sigma = std::min(best_sigma, r.yaw_sigma);
+    if (r.ok && r.yaw_sigma < kYawHintSigma &&
+        init->yaw_hint_stamp > fix.stamp) {
+      init->yaw_hint_stamp = fix.stamp;
+    }
     if (!r.ok || r.yaw_sigma > kMaxYawSigma) continue;
     init->yaw_observable = true;
     init->yaw_observable_stamp = fix.stamp;
@@ -291,14 +406,14 @@ bool InitializeInertial(const InertialData& data,
     break;
   }
 
-  char line[400];
+  char line[500];
   char still[80];
   if (init->still_start) {
     std::snprintf(still, sizeof(still), "still start of %.1f s",
                   init->still_seconds);
   } else {
     std::snprintf(still, sizeof(still),
-                  "no still start (moving, or not confirmed by 2 fixes)");
+                  "no still start (moving, or the fixes do not confirm it)");
   }
   const double t_obs = NsToSeconds(init->yaw_observable_stamp - t0);
   if (init->yaw_observable) {
@@ -313,9 +428,12 @@ bool InitializeInertial(const InertialData& data,
   } else {
     std::snprintf(line, sizeof(line),
                   "initializer: %s; yaw NOT observable from the %zu fixes "
-                  "(no horizontal acceleration seen, or too few fixes): "
-                  "the heading of every estimate is unknown",
-                  still, data.positions.size());
+                  "(the alignment's yaw sigma never fell below %.0f deg, "
+                  "smallest %.1f deg: too little horizontal acceleration "
+                  "to tell the heading from the biases and the tilt, or too "
+                  "few fixes): the heading of every estimate is unknown",
+                  still, data.positions.size(), kMaxYawSigma * 180.0 / M_PI,
+                  best_sigma * 180.0 / M_PI);
   }
   init->summary = line;
   return true;

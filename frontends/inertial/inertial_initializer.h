@@ -7,8 +7,12 @@
 // look like a body at rest (accelerometer norm within 0.5 m/s^2 of |g|,
 // accelerometer std below 1 m/s^2 and gyroscope std below 0.1 rad/s per axis:
 // tolerant of the vibration of a platform whose motors run) and the fixes in
-// it stay within 4 sigma of their mean (at least two fixes must confirm it:
-// an IMU cannot tell a slow steady turn from a gyroscope bias). Over the
+// it stay within 4 sigma of their mean and show no motion: a straight-line
+// fit through them has a velocity within 4 sigma of zero, and the still
+// start counts only once that sigma is at most 0.15 m/s (the fixes of up to
+// 1 s after a shorter still interval join the fit). An IMU cannot tell a
+// slow steady turn from a gyroscope bias: a start in steady motion whose
+// fixes show it is a moving start (bias from the configured prior). Over the
 // still interval: gyroscope bias = mean gyroscope reading, roll and pitch
 // from the mean accelerometer reading, velocity 0.
 //
@@ -20,18 +24,24 @@
 // With R0 = Rz(psi) R_tilt (roll and pitch from the mean accelerometer
 // reading of the still interval, else of the first 0.5 s) this is linear in
 // p0, v0, (cos psi, sin psi), plus a small horizontal term e u_z that
-// absorbs a tilt error (magnified by gravity, u_z ~ g t^2 / 2) and a
-// vertical 1/2 b t^2 for the accelerometer's scale along gravity: a
-// weighted least-squares fit (fixes weighted by position_sigma). Its
-// covariance, scaled up by the fit's chi2 per degree of freedom when above
-// 1, gives the yaw standard deviation; e corrects the tilt when there was
-// no still start. Yaw needs horizontal acceleration. Fixes are added one at
-// a time in time order (causal); the yaw is observable at the first fix
-// after which its standard deviation is below kMaxYawSigma (3 degrees) with
-// at least 5 fixes; the prior then gets twice that sigma (at least 1
-// degree: accelerometer bias is not modelled). Until then the estimators
-// put no yaw information in the first prior (sigma 180 degrees), so the
-// covariance of the published estimate shows it.
+// absorbs a tilt error (magnified by gravity, u_z ~ g t^2 / 2), the
+// readings' bias errors through the preintegration's bias Jacobians (body
+// frame, so they turn with the body: bilinear in (cos psi, sin psi) and the
+// bias, linear in their products), and a vertical 1/2 b t^2 for the
+// accelerometer's scale along gravity: a weighted least-squares fit (fixes
+// weighted by position_sigma; tilt and biases with zero-mean priors of
+// their sigmas). The yaw standard deviation is the marginal of the fit's
+// information (the inverse of its normal matrix, priors included), scaled
+// up by the fit's chi2 per degree of freedom when above 1: the yaw is
+// observable when the data carry the information, whatever the motion
+// that carries it. Fixes are added one at a time in time order (causal);
+// the yaw is observable at the first fix after which its standard deviation
+// is below kMaxYawSigma with at least 5 fixes; the prior then gets twice
+// that sigma (at least 1 degree). Until then the estimators put no yaw
+// information in the first prior (sigma 180 degrees), so the covariance of
+// the published estimate shows it; the sliding window's own yaw estimate
+// counts from the keyframe its yaw sigma falls below kMaxYawSigma
+// (inertial_estimator.h; only once the alignment's is below kYawHintSigma).
 #ifndef SLAM_FRONTENDS_INERTIAL_INERTIAL_INITIALIZER_H_
 #define SLAM_FRONTENDS_INERTIAL_INERTIAL_INITIALIZER_H_
 
@@ -44,8 +54,21 @@
 
 namespace slam {
 
-// Yaw is observable once its alignment standard deviation is below this.
-constexpr double kMaxYawSigma = 3.0 * M_PI / 180.0;
+// Yaw is observable once its standard deviation (the alignment's, or the
+// window's own: inertial_estimator.h) is below this. 5 degrees: a yaw error
+// that small is linearised with an error of 1 - cos(5 deg) = 0.4 %, and the
+// window's yaw sigma on a gentle flight with the EuRoC noise settles near
+// 3 degrees (tests/inertial_initializer_test.cc), so a first alignment
+// cannot be asked for much better.
+constexpr double kMaxYawSigma = 5.0 * M_PI / 180.0;
+// The window's own yaw sigma counts only once the alignment's is below this:
+// the window's marginal comes from Jacobians taken at its estimates
+// (first-estimate Jacobians in its prior), and at a wrong heading and bias
+// they show yaw information that is not in the data (constant velocity with
+// the data sheet noise: the window's yaw sigma falls below 5 degrees in
+// 8 s, the alignment's stays above 10); the alignment is linear in its
+// unknowns and cannot.
+constexpr double kYawHintSigma = 2.0 * kMaxYawSigma;
 // Fix-free stretches longer than this draw a warning (IMU alone drifts by
 // metres within seconds: position error grows with the cube of time).
 constexpr double kMaxFixGapSeconds = 10.0;
@@ -69,6 +92,9 @@ struct InertialInitialization {
   // Stamp of the last fix the alignment needed (the yaw is known from then
   // on); data.imu.back().stamp when yaw never became observable.
   TimeNs yaw_observable_stamp = 0;
+  // Stamp of the first fix after which the alignment's yaw sigma was below
+  // kYawHintSigma (max() when never): the window's own yaw counts from then.
+  TimeNs yaw_hint_stamp = 0;
   int alignment_fixes = 0;
   // Human-readable one-line summary.
   std::string summary;
