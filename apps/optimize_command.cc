@@ -245,7 +245,7 @@ int RunOptimizeCommand(const std::vector<std::string>& args) {
   // Landmark SLAM from dead reckoning: in stages (graph_solve.h).
   const bool staged = config.init == "auto" && init_used == "spanning_tree" &&
                       landmarks_from_observations;
-  const OptimizerSummary summary =
+  OptimizerSummary summary =
       OptimizeGraph(staged ? config.landmark_stages : 1, config.optimizer,
                     &graph, &std::cout);
   if (!summary.usable) {
