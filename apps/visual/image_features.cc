@@ -6,7 +6,8 @@
 #include <filesystem>
 
 #include <opencv2/features2d.hpp>
-#include <opencv2/imgcodecs.hpp>
+
+#include "frontends/image_io.h"
 
 namespace slam {
 
@@ -50,8 +51,10 @@ bool ListImages(const std::string& dir, std::vector<std::string>* paths,
     return false;
   }
   std::vector<std::string> names;
+  // Every entry named like an image is one: a FIFO, a folder or a broken
+  // link among them is an unreadable image (ReadGrayImage says which),
+  // never silently left out (the ground truth indexes the images).
   for (const auto& entry : fs::directory_iterator(dir, ec)) {
-    if (!entry.is_regular_file()) continue;
     std::string ext = entry.path().extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(),
                    [](unsigned char c) { return std::tolower(c); });
@@ -81,20 +84,12 @@ bool ExtractOrbFeatures(const std::vector<std::string>& paths, int orb_features,
                         std::vector<ImageFeatures>* features,
                         std::string* error) {
   cv::Ptr<cv::ORB> orb = cv::ORB::create(orb_features);
+  const int min_side = OrbMinImageSide(orb->getNLevels(), orb->getScaleFactor(),
+                                       orb->getEdgeThreshold());
   features->assign(paths.size(), ImageFeatures());
   for (size_t i = 0; i < paths.size(); ++i) {
     cv::Mat image;
-    try {
-      image = cv::imread(paths[i], cv::IMREAD_GRAYSCALE);
-    } catch (const cv::Exception& e) {
-      image.release();
-    }
-    if (image.empty()) {
-      *error = paths[i] +
-               ": cannot read the image (missing, corrupt or not "
-               "an image format OpenCV reads)";
-      return false;
-    }
+    if (!ReadGrayImage(paths[i], min_side, &image, error)) return false;
     orb->detectAndCompute(image, cv::noArray(), (*features)[i].keypoints,
                           (*features)[i].descriptors);
     if ((i + 1) % 50 == 0 || i + 1 == paths.size()) {
