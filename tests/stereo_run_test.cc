@@ -4,6 +4,8 @@
 // sequence (bad input: clear message, exit 1, no outputs) and on the shared
 // KITTI 06 excerpt (accuracy bounds, outputs, the g2o graph read back by
 // slam optimize, and the forward-backward loop).
+#include <sys/stat.h>
+
 #include <cmath>
 #include <filesystem>
 #include <functional>
@@ -189,13 +191,29 @@ TEST(StereoRunTest, RunsOnASyntheticImageSequence) {
   EXPECT_TRUE(Contains(report, "\"median_ms\"")) << report;
 }
 
+// Each case damages a fresh 6-frame sequence: `slam run` fails with exit
+// 1, the message, and writes nothing.
+struct BadInputCase {
+  const char* what;
+  std::function<void(const std::string&)> damage;
+  const char* expected;
+};
+
+void ExpectFailures(const std::vector<BadInputCase>& cases) {
+  for (const BadInputCase& c : cases) {
+    const std::string dir = TempDir();
+    WriteSequence(dir + "/seq", 6);
+    c.damage(dir + "/seq");
+    EXPECT_EQ(RunStereo(dir, dir + "/seq"), 1) << c.what;
+    const std::string log = ReadText(dir + "/log.txt");
+    EXPECT_TRUE(Contains(log, c.expected)) << c.what << ": " << log;
+    // Nothing written (the output folder may exist, empty).
+    EXPECT_TRUE(!Exists(dir + "/out") || fs::is_empty(dir + "/out")) << c.what;
+  }
+}
+
 TEST(StereoRunTest, BadInputFailsWithAMessageAndNoOutputs) {
-  struct Case {
-    const char* what;
-    std::function<void(const std::string&)> damage;
-    const char* expected;
-  };
-  const Case cases[] = {
+  ExpectFailures({
       {"missing right image",
        [](const std::string& s) { fs::remove(s + "/image_1/000003.png"); },
        "image_0 has 6 images but image_1 has 5"},
@@ -222,17 +240,92 @@ TEST(StereoRunTest, BadInputFailsWithAMessageAndNoOutputs) {
                      cv::Mat(60, 160, CV_8U, cv::Scalar(9)));
        },
        "160x60 but the left image"},
-  };
-  for (const Case& c : cases) {
-    const std::string dir = TempDir();
-    WriteSequence(dir + "/seq", 6);
-    c.damage(dir + "/seq");
-    EXPECT_EQ(RunStereo(dir, dir + "/seq"), 1) << c.what;
-    const std::string log = ReadText(dir + "/log.txt");
-    EXPECT_TRUE(Contains(log, c.expected)) << c.what << ": " << log;
-    // Nothing written (the output folder may exist, empty).
-    EXPECT_TRUE(!Exists(dir + "/out") || fs::is_empty(dir + "/out")) << c.what;
-  }
+  });
+}
+
+// Issue 26: images that must not be decoded or are not images, endless or
+// writerless text inputs and absurd calibrations.
+TEST(StereoRunTest, UnreadableOrAbsurdInputFailsBeforeTheWork) {
+  ExpectFailures({
+      // A header declaring a huge image is refused unread, on the first
+      // pair and in the thread that decodes the next pair ahead.
+      {"huge image header, frame 0",
+       [](const std::string& s) {
+         WriteText(s + "/image_0/000000.png",
+                   testing::PngDeclaring(60000, 60000));
+       },
+       "image_0/000000.png: the header declares 60000x60000 pixels"},
+      {"huge image header, frame 5 (decoded ahead)",
+       [](const std::string& s) {
+         WriteText(s + "/image_1/000005.png",
+                   testing::PngDeclaring(60000, 60000));
+       },
+       "image_1/000005.png: the header declares 60000x60000 pixels"},
+      // Files named like images that are not regular files are frames whose
+      // images cannot be read (poses.txt is paired by index), on one side
+      // or both.
+      {"FIFO named like an image on both sides",
+       [](const std::string& s) {
+         for (const char* side : {"/image_0/", "/image_1/"}) {
+           fs::remove(s + side + "000003.png");
+           ::mkfifo((s + side + "000003.png").c_str(), 0600);
+         }
+       },
+       "image_0/000003.png: cannot read the image: not a regular file"},
+      {"dangling link named like an image on one side",
+       [](const std::string& s) {
+         fs::remove(s + "/image_1/000002.png");
+         fs::create_symlink(s + "/nowhere.png", s + "/image_1/000002.png");
+       },
+       "image_1/000002.png: cannot read the image: No such file"},
+      {"folder named like an image on both sides",
+       [](const std::string& s) {
+         for (const char* side : {"/image_0/", "/image_1/"}) {
+           fs::create_directories(s + side + "000009.png");
+         }
+       },
+       "image_0/000009.png: cannot read the image: not a regular file"},
+      // Absurd calibrations (they ran with most frames lost).
+      {"baseline of 1.9e-303 m",
+       [](const std::string& s) {
+         WriteText(s + "/calib.txt",
+                   "P0: 300 0 160 0 0 300 60 0 0 0 1 0\n"
+                   "P1: 300 0 160 -5.7e-301 0 300 60 0 0 0 1 0\n");
+       },
+       "calib.txt:2: baseline -P1[0][3] / P1[0][0] = 1.9"},
+      {"baseline of 2.8e297 m",
+       [](const std::string& s) {
+         WriteText(s + "/calib.txt",
+                   "P0: 300 0 160 0 0 300 60 0 0 0 1 0\n"
+                   "P1: 300 0 160 -8.4e299 0 300 60 0 0 0 1 0\n");
+       },
+       "e+297 outside [1e-4, 1e4] (metres"},
+      {"focal length of 1e-300",
+       [](const std::string& s) {
+         WriteText(s + "/calib.txt",
+                   "P0: 1e-300 0 160 0 0 1e-300 60 0 0 0 1 0\n"
+                   "P1: 1e-300 0 160 -5e-301 0 1e-300 60 0 0 0 1 0\n");
+       },
+       "the focal length fx = 1e-300 of"},
+      // Endless or writerless text inputs: bounded, never a hang.
+      {"calib.txt is /dev/zero",
+       [](const std::string& s) {
+         fs::remove(s + "/calib.txt");
+         fs::create_symlink("/dev/zero", s + "/calib.txt");
+       },
+       "calib.txt: larger than 1048576 bytes"},
+      {"times.txt is /dev/zero",
+       [](const std::string& s) {
+         fs::create_symlink("/dev/zero", s + "/times.txt");
+       },
+       "times.txt: larger than 67108864 bytes"},
+      {"calib.txt is a FIFO without a writer",
+       [](const std::string& s) {
+         fs::remove(s + "/calib.txt");
+         ::mkfifo((s + "/calib.txt").c_str(), 0600);
+       },
+       "calib.txt: a FIFO with no writer"},
+  });
 }
 
 TEST(StereoRunTest, AFailureAfterTheWorkPublishesNoOutput) {
