@@ -1,5 +1,6 @@
-// Image folders and ORB features for the place-recognition commands
-// (`slam vocabulary`, `slam loops`).
+// ORB features of image folders for the place-recognition commands
+// (`slam vocabulary`, `slam loops`); the folders are listed by
+// datasets/image_list.h.
 #ifndef SLAM_APPS_VISUAL_IMAGE_FEATURES_H_
 #define SLAM_APPS_VISUAL_IMAGE_FEATURES_H_
 
@@ -8,17 +9,9 @@
 
 #include <opencv2/core.hpp>
 
+#include "datasets/image_list.h"
+
 namespace slam {
-
-// The image files (jpg, jpeg, png, bmp, pgm, ppm, tif, tiff, webp) directly in
-// `dir`, in natural order: digit runs compare as numbers, so 2.jpg comes
-// before 10.jpg (a loop ground truth indexes images in that order). Fails
-// naming the folder when it is missing or holds no image.
-bool ListImages(const std::string& dir, std::vector<std::string>* paths,
-                std::string* error);
-
-// "a2b" < "a10b": digit runs compare by value, the rest byte-wise.
-bool NaturalLess(const std::string& a, const std::string& b);
 
 struct ImageFeatures {
   std::vector<cv::KeyPoint> keypoints;

@@ -205,15 +205,9 @@ int RunLoopsCommand(const std::vector<std::string>& args) {
   if (config.vocabulary.empty()) {
     size_t count = 0;
     const std::vector<cv::Mat> descriptors = DescriptorsOf(features, &count);
-    bow::VocabularyTrainingOptions options;
-    options.k = config.vocabulary_k;
-    options.levels = VocabularyLevelsFor(
-        config, config.vocabulary_max_descriptors > 0
-                    ? std::min<size_t>(count, config.vocabulary_max_descriptors)
-                    : count);
-    options.max_descriptors = config.vocabulary_max_descriptors;
     const auto start = Clock::now();
-    if (!vocabulary.Train(descriptors, options, &error)) return fail(error);
+    if (!TrainVocabulary(config, descriptors, count, &vocabulary, &error))
+      return fail(error);
     vocabulary_seconds =
         std::chrono::duration<double>(Clock::now() - start).count();
     vocabulary_source = "trained on the sequence";

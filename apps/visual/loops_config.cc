@@ -22,19 +22,6 @@ const char* VerificationName(bow::Verification v) {
 
 }  // namespace
 
-int VocabularyLevelsFor(const LoopsConfig& config, size_t num_descriptors) {
-  if (config.vocabulary_levels > 0) return config.vocabulary_levels;
-  int levels = 1;
-  double words = config.vocabulary_k;
-  while (levels < 5 &&
-         words * config.vocabulary_k * config.descriptors_per_word <=
-             static_cast<double>(num_descriptors)) {
-    words *= config.vocabulary_k;
-    ++levels;
-  }
-  return levels;
-}
-
 bool ReadLoopsConfig(const YAML::Node& node, const std::string& where,
                      LoopsConfig* config, std::string* error) {
   if (!CheckKnownKeys(node,

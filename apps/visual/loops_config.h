@@ -30,7 +30,9 @@
 //     pnp_error_px: 3.0
 //     pnp_min_pixel_sigma: 0.5  # floor of the pixel noise (covariance)
 //
-// The detection defaults are DLoopDetector's (frontends/bow/loop_detector.h).
+// The struct, LoopsConfig, is the frontend's (frontends/visual/
+// place_recognition.h). The detection defaults are DLoopDetector's
+// (frontends/bow/loop_detector.h).
 #ifndef SLAM_APPS_VISUAL_LOOPS_CONFIG_H_
 #define SLAM_APPS_VISUAL_LOOPS_CONFIG_H_
 
@@ -40,22 +42,9 @@
 #include <yaml-cpp/yaml.h>
 
 #include "frontends/bow/loop_detector.h"
+#include "frontends/visual/place_recognition.h"
 
 namespace slam {
-
-struct LoopsConfig {
-  std::string vocabulary;  // Empty: self-trained.
-  int vocabulary_k = 10;
-  int vocabulary_levels = 0;  // 0: automatic (see VocabularyLevelsFor).
-  int descriptors_per_word = 20;
-  int64_t vocabulary_max_descriptors = 200000;
-  int orb_features = 1000;
-  bow::LoopDetectorConfig detector;
-};
-
-// The levels of a self-trained vocabulary for `num_descriptors`: the largest
-// L <= 5 with k^L * descriptors_per_word <= num_descriptors (at least 1).
-int VocabularyLevelsFor(const LoopsConfig& config, size_t num_descriptors);
 
 // Reads the keys of a `loops:` map (node) over *config; `where` names the
 // file. Other sections (e.g. a stereo pipeline's loop settings) can reuse it.

@@ -1,0 +1,132 @@
+#include "frontends/visual/visual_slam.h"
+
+#include <chrono>
+#include <cstdio>
+#include <future>
+#include <sstream>
+#include <utility>
+
+namespace slam {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double SecondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+}  // namespace
+
+VisualSlam::VisualSlam(const VisualSlamConfig& config,
+                       const VisualFrameSource* source)
+    : config_(config),
+      source_(source),
+      odometry_(std::make_unique<StereoOdometry>(
+          config.odometry, source->calibration(), source->width(),
+          source->height())) {}
+
+bool VisualSlam::Run(const VisualSlamCallbacks& callbacks,
+                     VisualSlamResult* result, std::string* error) {
+  *result = VisualSlamResult();
+  const size_t frames = source_->NumFrames();
+  // Steps 1-2. Decoding the next frame overlaps with the work on this one.
+  {
+    VisualImages images, next_images;
+    std::string next_error;
+    std::future<bool> next;
+    auto load = [&](size_t k) {
+      return source_->Load(k, &next_images, &next_error);
+    };
+    for (size_t k = 0; k < frames; ++k) {
+      VisualFrameTiming t;
+      t.frame = static_cast<int64_t>(k);
+      const auto read_start = Clock::now();
+      const bool loaded =
+          k == 0 ? source_->Load(0, &images, error) : next.get();
+      if (!loaded) {
+        if (k > 0) *error = next_error;
+        return false;
+      }
+      if (k > 0) images = std::move(next_images);
+      t.read_ms =
+          std::chrono::duration<double, std::milli>(Clock::now() - read_start)
+              .count();
+      if (k + 1 < frames) next = std::async(std::launch::async, load, k + 1);
+      const StereoFeatureFrame features = source_->Extract(images, &t.features);
+      const StereoFrameResult r = odometry_->AddFrame(features);
+      t.tracking_ms = r.tracking_ms;
+      t.local_ba_ms = r.local_ba_ms;
+      t.keyframe = r.keyframe;
+      t.inliers = r.inliers;
+      t.total_ms = t.features.features_ms + t.features.matching_ms +
+                   t.tracking_ms + t.local_ba_ms;
+      result->timings.push_back(t);
+      if (callbacks.progress) {
+        callbacks.progress(static_cast<double>(k + 1) / frames);
+      }
+    }
+  }
+  // Steps 3-4.
+  if (config_.loop_closure.enabled && !CloseLoops(callbacks, result, error)) {
+    return false;
+  }
+  // Steps 5-6.
+  odometry_->Finish();
+  result->trajectory = odometry_->FrameTrajectory();
+  result->map_points = odometry_->MapPoints();
+  result->stats = odometry_->stats();
+  return true;
+}
+
+bool VisualSlam::CloseLoops(const VisualSlamCallbacks& callbacks,
+                            VisualSlamResult* result, std::string* error) {
+  const auto loop_start = Clock::now();
+  const LoopsConfig& loops = config_.loops;
+  bow::Vocabulary vocabulary;
+  result->vocabulary_source = loops.vocabulary;
+  if (!loops.vocabulary.empty()) {
+    if (!vocabulary.Load(loops.vocabulary, error)) return false;
+  } else {
+    std::vector<cv::Mat> descriptors;
+    size_t count = 0;
+    for (size_t k = 0; k < odometry_->NumKeyframes(); ++k) {
+      descriptors.push_back(odometry_->KeyframeFeatures(k).descriptors);
+      count += descriptors.back().rows;
+    }
+    if (!TrainVocabulary(loops, descriptors, count, &vocabulary, error)) {
+      *error = "vocabulary: " + *error;
+      return false;
+    }
+    result->vocabulary_source = "trained on the keyframes";
+  }
+  result->vocabulary_seconds = SecondsSince(loop_start);
+  char line[512];
+  std::snprintf(
+      line, sizeof(line), "vocabulary %s: k = %d, L = %d, %zu words (%.2f s)",
+      result->vocabulary_source.c_str(), vocabulary.k(), vocabulary.levels(),
+      vocabulary.size(), result->vocabulary_seconds);
+  if (callbacks.log) callbacks.log(line);
+  std::ostringstream loop_log;
+  if (!CloseStereoLoops(vocabulary, loops.detector, config_.loop_closure,
+                        source_->calibration(), odometry_.get(), &result->loops,
+                        &loop_log, error)) {
+    *error = "loop closing: " + *error;
+    return false;
+  }
+  result->loop_seconds = SecondsSince(loop_start);
+  if (callbacks.log) {
+    std::istringstream lines(loop_log.str());
+    for (std::string text; std::getline(lines, text);) callbacks.log(text);
+    const StereoLoopClosingResult& l = result->loops;
+    std::snprintf(line, sizeof(line),
+                  "loop closure: %d candidates verified or rejected, %d "
+                  "accepted, %d rejected, largest keyframe correction %.3f m "
+                  "(%.2f s)",
+                  l.detected, l.accepted, l.rejected, l.largest_correction,
+                  result->loop_seconds);
+    callbacks.log(line);
+  }
+  return true;
+}
+
+}  // namespace slam
