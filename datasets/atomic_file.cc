@@ -216,6 +216,22 @@ void SyncDirectory(const std::string& dir) {
   ::close(fd);
 }
 
+// The file an output path names (symbolic links followed): *exists and
+// *st when it exists. False ("PATH: problem") on a link loop or a folder.
+bool ResolveOutput(const std::string& path, std::string* target,
+                   struct stat* st, bool* exists, std::string* error) {
+  int err = 0;
+  if (!FollowSymlinks(path, target, st, exists, &err)) {
+    *error = path + ": cannot resolve the path: " + std::strerror(err);
+    return false;
+  }
+  if (*exists && S_ISDIR(st->st_mode)) {
+    *error = path + ": is a directory";
+    return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 bool WriteFileAtomically(const std::string& path, std::string_view contents,
@@ -224,14 +240,7 @@ bool WriteFileAtomically(const std::string& path, std::string_view contents,
   struct stat st;
   bool exists = false;
   int err = 0;
-  if (!FollowSymlinks(path, &target, &st, &exists, &err)) {
-    *error = path + ": cannot resolve the path: " + std::strerror(err);
-    return false;
-  }
-  if (exists && S_ISDIR(st.st_mode)) {
-    *error = path + ": is a directory";
-    return false;
-  }
+  if (!ResolveOutput(path, &target, &st, &exists, error)) return false;
   if (exists && !S_ISREG(st.st_mode)) {
     return WriteDirectly(path, target, contents, error);
   }
@@ -280,15 +289,7 @@ bool CheckOutputFile(const std::string& path, std::string* error) {
   std::string target;
   struct stat st;
   bool exists = false;
-  int err = 0;
-  if (!FollowSymlinks(path, &target, &st, &exists, &err)) {
-    *error = path + ": cannot resolve the path: " + std::strerror(err);
-    return false;
-  }
-  if (exists && S_ISDIR(st.st_mode)) {
-    *error = path + ": is a directory";
-    return false;
-  }
+  if (!ResolveOutput(path, &target, &st, &exists, error)) return false;
   if (exists && !S_ISREG(st.st_mode)) return true;  // Written directly.
   const std::string dir = DirName(target);
   struct stat dir_st;

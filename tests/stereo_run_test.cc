@@ -199,6 +199,17 @@ struct BadInputCase {
   const char* expected;
 };
 
+// Every image of the 6-frame sequence in `dir` becomes `image`.
+void ReplaceImages(const std::string& dir, const cv::Mat& image) {
+  for (const char* side : {"/image_0/", "/image_1/"}) {
+    for (int k = 0; k < 6; ++k) {
+      char name[16];
+      std::snprintf(name, sizeof(name), "%06d.png", k);
+      cv::imwrite(dir + side + name, image);
+    }
+  }
+}
+
 void ExpectFailures(const std::vector<BadInputCase>& cases) {
   for (const BadInputCase& c : cases) {
     const std::string dir = TempDir();
@@ -207,8 +218,9 @@ void ExpectFailures(const std::vector<BadInputCase>& cases) {
     EXPECT_EQ(RunStereo(dir, dir + "/seq"), 1) << c.what;
     const std::string log = ReadText(dir + "/log.txt");
     EXPECT_TRUE(Contains(log, c.expected)) << c.what << ": " << log;
-    // Nothing written (the output folder may exist, empty).
-    EXPECT_TRUE(!Exists(dir + "/out") || fs::is_empty(dir + "/out")) << c.what;
+    // Nothing written, not even the output folder (made before the work,
+    // removed with the failure).
+    EXPECT_FALSE(Exists(dir + "/out")) << c.what;
   }
 }
 
@@ -325,26 +337,126 @@ TEST(StereoRunTest, UnreadableOrAbsurdInputFailsBeforeTheWork) {
          ::mkfifo((s + "/calib.txt").c_str(), 0600);
        },
        "calib.txt: a FIFO with no writer"},
+      // Nothing to track: a clear failure, not an identity trajectory.
+      {"featureless (black) images",
+       [](const std::string& s) {
+         ReplaceImages(s, cv::Mat(120, 320, CV_8U, cv::Scalar(0)));
+       },
+       "frames 0-5: none has the 50 points with depth needed to start the "
+       "map"},
+      {"images too small for the feature pyramid",
+       [](const std::string& s) {
+         ReplaceImages(s, cv::Mat(1, 613, CV_8U, cv::Scalar(90)));
+         WriteText(s + "/calib.txt",
+                   "P0: 300 0 306 0 0 300 0.5 0 0 0 1 0\n"
+                   "P1: 300 0 306 -150 0 300 0.5 0 0 0 1 0\n");
+       },
+       "image_0/000000.png: 613x1 pixels: too small for the feature "
+       "pyramid"},
   });
 }
 
+// Checks that need no frame come before the first one (issue 26 item 10):
+// the loop closure's vocabulary file and the report's path.
+TEST(StereoRunTest, InputsAndOutputsAreCheckedBeforeTheFirstFrame) {
+  const std::string dir = TempDir();
+  WriteSequence(dir + "/seq", 6);
+  fs::create_directories(dir + "/a_folder");
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"loop_closure:\n    enabled: true\nloops:\n  vocabulary: " + dir +
+           "/missing.voc\n",
+       dir + "/missing.voc: cannot open"},
+      {"", "--report " + dir + "/a_folder: is a directory"}};
+  for (const auto& [extra, expected] : cases) {
+    WriteText(dir + "/run.yaml", "run:\n  pipeline: stereo\n  sequence: " +
+                                     dir + "/seq\n  output_dir: " + dir +
+                                     "/out\n" +
+                                     (extra.empty() ? "" : "  " + extra));
+    const std::string report =
+        extra.empty() ? dir + "/a_folder" : dir + "/r.json";
+    EXPECT_EQ(RunSlam("run --config " + dir + "/run.yaml --report " + report,
+                      dir + "/log.txt"),
+              1);
+    const std::string log = ReadText(dir + "/log.txt");
+    EXPECT_TRUE(Contains(log, expected)) << log;
+    EXPECT_FALSE(Contains(log, "processing")) << log;  // No frame processed.
+    EXPECT_FALSE(Exists(dir + "/out")) << log;
+  }
+}
+
+// A frame without features is lost and said so; one frame with poses.txt
+// runs and reports the evaluation as not computed (issue 26 items 6, 8).
+TEST(StereoRunTest, LostFramesAreReportedAndOneFrameRuns) {
+  const std::string dir = TempDir();
+  WriteSequence(dir + "/seq", 8);
+  for (const char* side : {"/image_0/", "/image_1/"}) {
+    cv::imwrite(dir + "/seq" + side + "000004.png",
+                cv::Mat(120, 320, CV_8U, cv::Scalar(255)));
+  }
+  ASSERT_EQ(RunStereo(dir, dir + "/seq"), 0) << ReadText(dir + "/log.txt");
+  std::string log = ReadText(dir + "/log.txt");
+  EXPECT_TRUE(Contains(log, "run: warning: ")) << log;
+  EXPECT_TRUE(Contains(log, "of 8 frames lost (no pose from their images"))
+      << log;
+  EXPECT_FALSE(Contains(ReadText(dir + "/out/report.json"),
+                        "\"lost_frames\": 0"));
+
+  const std::string one = dir + "/one";
+  WriteSequence(one + "/seq", 1);
+  WriteText(one + "/seq/poses.txt", "1 0 0 0 0 1 0 0 0 0 1 0\n");
+  ASSERT_EQ(RunStereo(one, one + "/seq"), 0) << ReadText(one + "/log.txt");
+  log = ReadText(one + "/log.txt");
+  EXPECT_TRUE(Contains(log, "run: evaluation not computed: ")) << log;
+  EXPECT_TRUE(Exists(one + "/out/trajectory_kitti.txt"));
+  const std::string report = ReadText(one + "/out/report.json");
+  EXPECT_TRUE(Contains(report, "\"computed\": false")) << report;
+}
+
+// Stopped by a signal mid-run: no temporary and no empty output folder
+// (issue 26 item 11).
+TEST(StereoRunTest, ASignalLeavesNoOutputFolder) {
+  const std::string dir = TempDir();
+  WriteSequence(dir + "/seq", 60);
+  WriteText(dir + "/run.yaml", "run:\n  pipeline: stereo\n  sequence: " + dir +
+                                   "/seq\n  output_dir: " + dir +
+                                   "/new/out\n");
+  // (Not INT or QUIT: a shell starts background jobs with those ignored,
+  // and an ignored signal stays ignored.)
+  for (const char* signal : {"TERM", "HUP"}) {
+    // Waits for the folder (made before the first frame), then signals.
+    const std::string script =
+        std::string(SLAM_BINARY) + " run --config " + dir + "/run.yaml > " +
+        dir + "/log.txt 2>&1 & pid=$!; for i in $(seq 400); do [ -d " + dir +
+        "/new/out ] && break; sleep 0.01; done; sleep 0.2; kill -" + signal +
+        " $pid; wait $pid; echo $? > " + dir + "/code.txt";
+    ASSERT_EQ(std::system(("bash -c '" + script + "'").c_str()), 0);
+    EXPECT_NE(ReadText(dir + "/code.txt"), "0\n") << signal;
+    EXPECT_FALSE(Exists(dir + "/new")) << signal << ": "
+                                       << ReadText(dir + "/log.txt");
+  }
+}
+
 TEST(StereoRunTest, AFailureAfterTheWorkPublishesNoOutput) {
-  // The report, written last, cannot be written: none of the outputs
-  // written before it may be left behind.
+  // map.png, written after the trajectories, the graph and the timings,
+  // cannot be written (a folder of that name): none of the outputs written
+  // before it may be left behind.
   const std::string dir = TempDir();
   WriteSequence(dir + "/seq", 5);
+  fs::create_directories(dir + "/out/map.png");
   WriteText(dir + "/run.yaml", "run:\n  pipeline: stereo\n  sequence: " + dir +
                                    "/seq\n  output_dir: " + dir + "/out\n");
   EXPECT_EQ(RunSlam("run --config " + dir + "/run.yaml --report " + dir +
-                        "/missing_dir/report.json",
+                        "/report.json",
                     dir + "/log.txt"),
             1)
       << ReadText(dir + "/log.txt");
-  EXPECT_TRUE(Contains(ReadText(dir + "/log.txt"), "missing_dir"))
+  EXPECT_TRUE(Contains(ReadText(dir + "/log.txt"), "map.png: is a directory"))
       << ReadText(dir + "/log.txt");
   for (const auto& entry : fs::recursive_directory_iterator(dir + "/out")) {
+    if (entry.path().filename() == "map.png") continue;
     ADD_FAILURE() << "left behind: " << entry.path();
   }
+  EXPECT_FALSE(Exists(dir + "/report.json"));
 }
 
 // The report's numbers ("key": value).
