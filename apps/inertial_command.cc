@@ -337,10 +337,8 @@ int RunInertialCommand(const std::vector<std::string>& args) {
     report.Add("evaluation", evaluation);
   }
 
-  std::error_code ec;
-  std::filesystem::create_directories(FLAGS_o, ec);
-  if (ec) {
-    std::cerr << "slam inertial: " << FLAGS_o << ": " << ec.message() << "\n";
+  if (!CreateOutputFolder(FLAGS_o, &error)) {
+    std::cerr << "slam inertial: " << error << "\n";
     return 1;
   }
   for (const Estimate& e : estimates) {

@@ -36,10 +36,12 @@
 // entry listing that file and the shared flags it reads.
 #include <algorithm>
 #include <charconv>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <functional>
+#include <iostream>
 #include <map>
 #include <string>
 #include <vector>
@@ -199,6 +201,10 @@ void PrintCommandHelp(const std::string& name, const Command& command) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // Output piped into a reader that stops early (`| head -1`): the writes
+  // fail with EPIPE and the command ends with an error (checked below)
+  // instead of being killed by SIGPIPE half-way.
+  std::signal(SIGPIPE, SIG_IGN);
   slam::ConfigureProcessHeap();  // See apps/process_heap.h.
   slam::FilterControlBytesOnStderr();
   slam::FilterControlBytesOnStderr();
@@ -249,8 +255,17 @@ int main(int argc, char** argv) {
   // The outputs of a command are published only when it succeeds: a failed
   // command leaves none of them behind (datasets/atomic_file.h).
   slam::OutputStage outputs;
-  const int code = command.run(args);
+  int code = command.run(args);
   std::string error;
+  std::cout.flush();
+  if (std::fflush(stdout) != 0 || std::ferror(stdout) || !std::cout) {
+    // The report on stdout is incomplete: the command failed.
+    std::fprintf(stderr,
+                 "slam %s: cannot write to standard output (a closed pipe or "
+                 "a full disk)\n",
+                 name.c_str());
+    if (code == 0) code = 1;
+  }
   if (code == 0 && !outputs.Commit(&error)) {
     std::fprintf(stderr, "slam %s: %s\n", name.c_str(), error.c_str());
     return 1;

@@ -292,18 +292,15 @@ int RunOptimizeCommand(const std::vector<std::string>& args) {
   }
 
   if (num_points > 0 && !FLAGS_plot.empty()) {
-    std::error_code ec;
-    std::filesystem::create_directories(FLAGS_plot, ec);
     const std::string path = FLAGS_plot + "/map.png";
-    if (ec ||
+    if (!CreateOutputFolder(FLAGS_plot, &error) ||
         !WriteMapPlot(
             path,
             MapPlotFromGraph(
                 graph, "optimized map: " +
                            std::filesystem::path(input).filename().string()),
             &error)) {
-      std::cerr << "slam optimize: --plot: "
-                << (ec ? FLAGS_plot + ": " + ec.message() : error) << "\n";
+      std::cerr << "slam optimize: --plot: " << error << "\n";
       return 1;
     }
     std::printf("wrote %s\n", path.c_str());

@@ -30,6 +30,7 @@
 #include "apps/map_png.h"
 #include "apps/progress_bar.h"
 #include "apps/run_config.h"
+#include "datasets/atomic_file.h"
 #include "datasets/carmen_io.h"
 #include "datasets/g2o_io.h"
 #include "datasets/relations_io.h"
@@ -208,11 +209,9 @@ int RunRunCommand(const std::vector<std::string>& args) {
     }
   }
   // Fail before the work on an output folder that cannot be made.
-  std::error_code ec;
-  fs::create_directories(config.output_dir, ec);
-  if (ec) {
-    std::cerr << config.output_dir
-              << ": cannot create directory: " << ec.message() << "\n";
+  // Removed again if the run fails (datasets/atomic_file.h).
+  if (!CreateOutputFolder(config.output_dir, &error)) {
+    std::cerr << error << "\n";
     return 1;
   }
   const double read_seconds = Since(start);

@@ -180,14 +180,7 @@ int Fail(const std::string& message, int code = 1) {
 
 // Creates the output directory (and its parents) if needed.
 bool MakeOutputDirectory(const std::string& path, std::string* error) {
-  std::error_code ec;
-  std::filesystem::create_directories(path, ec);
-  if (ec || !std::filesystem::is_directory(path)) {
-    *error = path + ": cannot create the output directory" +
-             (ec ? " (" + ec.message() + ")" : std::string());
-    return false;
-  }
-  return true;
+  return CreateOutputFolder(path, error);
 }
 
 // World type inertial: IMU + position fixes into an EuRoC folder.

@@ -1,8 +1,8 @@
 #include "core/graph.h"
 
-#include <set>
-
+#include <algorithm>
 #include <limits>
+#include <unordered_set>
 #include <utility>
 
 #include "core/manifolds.h"
@@ -76,28 +76,41 @@ const Node* Graph::FindNode(const Key& key) const {
   return it == nodes_.end() ? nullptr : it->second.get();
 }
 
-bool Graph::RemoveNode(const Key& key) {
-  if (nodes_.erase(key) == 0) return false;
-  for (auto it = factors_.begin(); it != factors_.end();) {
-    bool touches = false;
-    for (const Key& k : it->second.keys) touches = touches || (k == key);
-    it = touches ? factors_.erase(it) : std::next(it);
-  }
-  return true;
-}
+bool Graph::RemoveNode(const Key& key) { return RemoveNodes({key}) == 1; }
 
 size_t Graph::RemoveNodes(const std::vector<Key>& keys) {
-  std::set<Key> removed;
+  std::unordered_set<FactorId> doomed;
+  std::unordered_set<Key, KeyHash> neighbours;
+  size_t removed = 0;
   for (const Key& key : keys) {
-    if (nodes_.erase(key) > 0) removed.insert(key);
+    if (nodes_.erase(key) == 0) continue;
+    ++removed;
+    auto it = factors_of_.find(key);
+    if (it == factors_of_.end()) continue;
+    for (const FactorId id : it->second) {
+      if (!doomed.insert(id).second) continue;
+      for (const Key& k : factors_.at(id).keys) neighbours.insert(k);
+    }
+    factors_of_.erase(it);
   }
-  if (removed.empty()) return 0;
-  for (auto it = factors_.begin(); it != factors_.end();) {
-    bool touches = false;
-    for (const Key& k : it->second.keys) touches = touches || removed.count(k);
-    it = touches ? factors_.erase(it) : std::next(it);
+  for (const FactorId id : doomed) factors_.erase(id);
+  // One pass over each neighbour's list (removed nodes' lists are gone).
+  for (const Key& k : neighbours) {
+    auto it = factors_of_.find(k);
+    if (it == factors_of_.end()) continue;
+    std::vector<FactorId>& ids = it->second;
+    ids.erase(std::remove_if(ids.begin(), ids.end(),
+                             [&](FactorId id) { return doomed.count(id) > 0; }),
+              ids.end());
+    if (ids.empty()) factors_of_.erase(it);
   }
-  return removed.size();
+  return removed;
+}
+
+const std::vector<FactorId>& Graph::FactorsOf(const Key& key) const {
+  static const std::vector<FactorId> kNone;
+  auto it = factors_of_.find(key);
+  return it == factors_of_.end() ? kNone : it->second;
 }
 
 void Graph::SetFixed(const Key& key, bool fixed) {
@@ -123,11 +136,32 @@ FactorId Graph::AddFactor(Factor factor) {
     }
   }
   const FactorId id = next_factor_id_++;
+  for (size_t i = 0; i < factor.keys.size(); ++i) {
+    // A key repeated within the factor is listed once.
+    if (std::find(factor.keys.begin(), factor.keys.begin() + i,
+                  factor.keys[i]) == factor.keys.begin() + i) {
+      factors_of_[factor.keys[i]].push_back(id);
+    }
+  }
   factors_.emplace(id, std::move(factor));
   return id;
 }
 
-bool Graph::RemoveFactor(FactorId id) { return factors_.erase(id) > 0; }
+bool Graph::RemoveFactor(FactorId id) {
+  auto it = factors_.find(id);
+  if (it == factors_.end()) return false;
+  for (const Key& k : it->second.keys) {
+    auto list = factors_of_.find(k);
+    if (list == factors_of_.end()) continue;  // Repeated key, done.
+    std::vector<FactorId>& ids = list->second;
+    // Ids are in increasing order.
+    auto pos = std::lower_bound(ids.begin(), ids.end(), id);
+    if (pos != ids.end() && *pos == id) ids.erase(pos);
+    if (ids.empty()) factors_of_.erase(list);
+  }
+  factors_.erase(it);
+  return true;
+}
 
 bool Graph::SetLoss(FactorId id, std::shared_ptr<ceres::LossFunction> loss) {
   auto it = factors_.find(id);

@@ -12,6 +12,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include <Eigen/Core>
@@ -91,12 +92,17 @@ class Graph {
   bool HasNode(const Key& key) const { return nodes_.count(key) > 0; }
   Node* FindNode(const Key& key);
   const Node* FindNode(const Key& key) const;
-  // Removes the node and every factor touching it; false if absent. Scans
-  // every factor: to remove many nodes, use RemoveNodes.
+  // Removes the node and every factor touching it; false if absent. Costs
+  // the factors of the node and of their other nodes (the factors are
+  // indexed by node), not a scan of the graph.
   bool RemoveNode(const Key& key);
-  // Removes the nodes present among `keys` and every factor touching them,
-  // in one pass over the factors; returns how many nodes were removed.
+  // Removes the nodes present among `keys` and every factor touching them;
+  // returns how many nodes were removed. Costs the factors touching the
+  // removed nodes and their neighbours, however large the graph.
   size_t RemoveNodes(const std::vector<Key>& keys);
+  // The factors touching `key`, in the order they were added (empty if
+  // none or absent).
+  const std::vector<FactorId>& FactorsOf(const Key& key) const;
   void SetFixed(const Key& key, bool fixed);
 
   // Adds a factor. Every key must name an existing node and the cost function
@@ -147,6 +153,9 @@ class Graph {
  private:
   std::map<Key, std::unique_ptr<Node>> nodes_;
   std::map<FactorId, Factor> factors_;
+  // Node -> the factors touching it (each once, in id order), kept with
+  // factors_ so that removing a node does not scan every factor.
+  std::unordered_map<Key, std::vector<FactorId>, KeyHash> factors_of_;
   FactorId next_factor_id_ = 0;
   std::unique_ptr<ceres::Manifold> se2_manifold_;
   std::unique_ptr<ceres::Manifold> se3_manifold_;

@@ -13,6 +13,8 @@
 #include <cstring>
 #include <filesystem>
 #include <mutex>
+#include <string>
+#include <vector>
 
 namespace slam {
 namespace {
@@ -30,6 +32,7 @@ constexpr int kSignals[] = {SIGINT, SIGTERM, SIGHUP, SIGQUIT};
 
 struct Slot {
   std::atomic<bool> used{false};
+  bool folder = false;  // A folder created for the outputs: rmdir.
   char path[PATH_MAX];
 };
 
@@ -38,7 +41,22 @@ struct sigaction g_previous[sizeof(kSignals) / sizeof(kSignals[0])];
 
 void RemoveTempsOnSignal(int sig) {
   for (Slot& slot : g_slots) {
-    if (slot.used.load(std::memory_order_acquire)) ::unlink(slot.path);
+    if (slot.used.load(std::memory_order_acquire) && !slot.folder) {
+      ::unlink(slot.path);
+    }
+  }
+  // Then the folders created for the outputs, if empty now (nested ones
+  // first: a pass per level, at most as many as there are slots).
+  for (int pass = 0; pass < kSlots; ++pass) {
+    bool removed = false;
+    for (Slot& slot : g_slots) {
+      if (slot.used.load(std::memory_order_acquire) && slot.folder &&
+          ::rmdir(slot.path) == 0) {
+        slot.used.store(false, std::memory_order_release);
+        removed = true;
+      }
+    }
+    if (!removed) break;
   }
   // Die (or go on) as the signal's previous disposition says.
   for (size_t i = 0; i < sizeof(kSignals) / sizeof(kSignals[0]); ++i) {
@@ -67,7 +85,7 @@ void InstallSignalHandlers() {
 
 // A slot for `path`, or -1 when all are taken (the temporary is then only
 // cleaned up by a later write, see RemoveStaleTemps).
-int RegisterTemp(const std::string& path) {
+int RegisterTemp(const std::string& path, bool folder = false) {
   InstallSignalHandlers();
   if (path.size() >= PATH_MAX) return -1;
   static std::mutex mutex;
@@ -75,6 +93,7 @@ int RegisterTemp(const std::string& path) {
   for (int i = 0; i < kSlots; ++i) {
     if (!g_slots[i].used.load(std::memory_order_relaxed)) {
       std::memcpy(g_slots[i].path, path.c_str(), path.size() + 1);
+      g_slots[i].folder = folder;
       g_slots[i].used.store(true, std::memory_order_release);
       return i;
     }
@@ -198,6 +217,22 @@ void SyncDirectory(const std::string& dir) {
   ::close(fd);
 }
 
+// The file an output path names (symbolic links followed): *exists and
+// *st when it exists. False ("PATH: problem") on a link loop or a folder.
+bool ResolveOutput(const std::string& path, std::string* target,
+                   struct stat* st, bool* exists, std::string* error) {
+  int err = 0;
+  if (!FollowSymlinks(path, target, st, exists, &err)) {
+    *error = path + ": cannot resolve the path: " + std::strerror(err);
+    return false;
+  }
+  if (*exists && S_ISDIR(st->st_mode)) {
+    *error = path + ": is a directory";
+    return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 bool CheckOutputPath(const std::string& path, std::string* error) {
@@ -220,14 +255,7 @@ bool WriteFileAtomically(const std::string& path, std::string_view contents,
   struct stat st;
   bool exists = false;
   int err = 0;
-  if (!FollowSymlinks(path, &target, &st, &exists, &err)) {
-    *error = path + ": cannot resolve the path: " + std::strerror(err);
-    return false;
-  }
-  if (exists && S_ISDIR(st.st_mode)) {
-    *error = path + ": is a directory";
-    return false;
-  }
+  if (!ResolveOutput(path, &target, &st, &exists, error)) return false;
   if (exists && !S_ISREG(st.st_mode)) {
     return WriteDirectly(path, target, contents, error);
   }
@@ -272,6 +300,70 @@ bool WriteFileAtomically(const std::string& path, std::string_view contents,
   return true;
 }
 
+bool CheckOutputFile(const std::string& path, std::string* error) {
+  std::string target;
+  struct stat st;
+  bool exists = false;
+  if (!ResolveOutput(path, &target, &st, &exists, error)) return false;
+  if (exists && !S_ISREG(st.st_mode)) return true;  // Written directly.
+  const std::string dir = DirName(target);
+  struct stat dir_st;
+  if (::stat(dir.c_str(), &dir_st) != 0 || !S_ISDIR(dir_st.st_mode)) {
+    *error = path + ": the folder " + dir + " does not exist";
+    return false;
+  }
+  // The way the file will be written: a temporary beside it.
+  std::string probe =
+      target + kTempMarker + std::to_string(::getpid()) + "-XXXXXX";
+  const int fd = ::mkstemp(probe.data());
+  if (fd < 0) {
+    *error = path + ": cannot write in " + dir + ": " + std::strerror(errno);
+    return false;
+  }
+  ::close(fd);
+  ::unlink(probe.c_str());
+  return true;
+}
+
+bool CreateOutputFolder(const std::string& dir, std::string* error) {
+  if (dir.empty()) {
+    *error = "an empty output folder name";
+    return false;
+  }
+  // Missing components, outermost first.
+  std::vector<std::string> missing;
+  std::string current = dir;
+  while (current.size() > 1 && current.back() == '/') current.pop_back();
+  struct stat st;
+  while (::stat(current.c_str(), &st) != 0) {
+    if (errno != ENOENT) {
+      *error = dir + ": cannot create the folder: " + std::strerror(errno);
+      return false;
+    }
+    missing.push_back(current);
+    const std::string parent = DirName(current);
+    if (parent == current) break;
+    current = parent;
+  }
+  if (missing.empty() && !S_ISDIR(st.st_mode)) {
+    *error = dir + ": cannot create the folder: " + std::strerror(ENOTDIR);
+    return false;
+  }
+  OutputStage* stage = OutputStage::Current();
+  for (auto it = missing.rbegin(); it != missing.rend(); ++it) {
+    if (::mkdir(it->c_str(), 0755) != 0 && errno != EEXIST) {
+      *error = dir + ": cannot create the folder " + *it + ": " +
+               std::strerror(errno);
+      if (stage != nullptr) stage->RemoveFolders();
+      return false;
+    }
+    if (stage != nullptr) {
+      stage->AddFolder({*it, &ReleaseTemp, RegisterTemp(*it, true)});
+    }
+  }
+  return true;
+}
+
 OutputStage::OutputStage() : previous_(t_current_stage) {
   t_current_stage = this;
 }
@@ -297,7 +389,24 @@ void OutputStage::Add(Pending pending) {
   pending_.push_back(std::move(pending));
 }
 
+void OutputStage::AddFolder(Folder folder) {
+  folders_.push_back(std::move(folder));
+}
+
+void OutputStage::RemoveFolders() {
+  // Innermost first; a folder that holds anything stays.
+  for (auto it = folders_.rbegin(); it != folders_.rend(); ++it) {
+    ::rmdir(it->path.c_str());
+    if (it->release != nullptr) it->release(it->slot);
+  }
+  folders_.clear();
+}
+
 bool OutputStage::Commit(std::string* error) {
+  for (const Folder& f : folders_) {
+    if (f.release != nullptr) f.release(f.slot);
+  }
+  folders_.clear();
   std::vector<Pending> pending;
   pending.swap(pending_);
   for (size_t i = 0; i < pending.size(); ++i) {
@@ -321,6 +430,7 @@ void OutputStage::Discard() {
     if (p.release != nullptr) p.release(p.slot);
   }
   pending_.clear();
+  RemoveFolders();
 }
 
 }  // namespace slam

@@ -16,6 +16,11 @@
 // that was killed (SIGKILL) is removed by the next write of the same PATH
 // once that process is gone.
 //
+// Output folders: CreateOutputFolder creates a folder and its missing
+// parents; those it created are removed again (when empty) if the current
+// OutputStage is discarded or on one of the signals above, so a failed or
+// interrupted command leaves no empty folder behind.
+//
 // OutputStage: a command that writes several outputs keeps them all
 // unpublished (written, as temporaries) until it has succeeded: while a stage
 // is active on the thread, WriteFileAtomically defers its renames to
@@ -42,6 +47,16 @@ bool WriteFileAtomically(const std::string& path, std::string_view contents,
 // not exist" or "PATH: is a directory".
 bool CheckOutputPath(const std::string& path, std::string* error);
 
+// Checks, before any work, that WriteFileAtomically can write `path`: not a
+// directory, its folder exists, and a file can be created there (a
+// temporary is created and removed). False with "PATH: problem".
+bool CheckOutputFile(const std::string& path, std::string* error);
+
+// Creates `dir` and its missing parents (0755). With a current OutputStage
+// the folders created are removed again (if empty) when the stage is
+// discarded or on a fatal signal (see above). False with "DIR: problem".
+bool CreateOutputFolder(const std::string& dir, std::string* error);
+
 // The outputs of one command, published together by Commit. Stages nest
 // (the innermost one collects); one thread's stage does not see the writes
 // of another thread.
@@ -67,6 +82,16 @@ class OutputStage {
     int slot = -1;
   };
   void Add(Pending pending);
+  // Used by CreateOutputFolder: a folder it created (kept by Commit,
+  // removed if empty otherwise).
+  struct Folder {
+    std::string path;
+    void (*release)(int slot) = nullptr;
+    int slot = -1;
+  };
+  void AddFolder(Folder folder);
+  // Removes the folders added (innermost first, only empty ones) now.
+  void RemoveFolders();
 
   // The innermost stage of this thread, or nullptr.
   static OutputStage* Current();
@@ -79,6 +104,7 @@ class OutputStage {
   void Discard();
 
   std::vector<Pending> pending_;
+  std::vector<Folder> folders_;
   OutputStage* previous_;
 };
 

@@ -46,8 +46,10 @@ bool ListImages(const std::string& dir, std::vector<std::string>* paths,
     return false;
   }
   std::vector<std::string> names;
+  // Every entry named like an image is one: a FIFO, a folder or a broken
+  // link among them is an unreadable image (frontends/image_io.h says
+  // which), never silently left out (a ground truth indexes the images).
   for (const auto& entry : fs::directory_iterator(dir, ec)) {
-    if (!entry.is_regular_file()) continue;
     std::string ext = entry.path().extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(),
                    [](unsigned char c) { return std::tolower(c); });

@@ -14,6 +14,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// What the text files can plausibly need: calib.txt holds a few lines of 12
+// numbers; times.txt one stamp (about 20 bytes) a frame, for millions of
+// frames. Larger files (or /dev/zero) are refused before parsing.
+constexpr size_t kMaxCalibrationBytes = size_t{1} << 20;  // 1 MiB.
+constexpr size_t kMaxTimesBytes = size_t{64} << 20;       // 64 MiB.
+
 bool IsImageExtension(std::string ext) {
   for (char& c : ext) c = static_cast<char>(std::tolower(c));
   static const char* const kExtensions[] = {
@@ -161,7 +167,9 @@ bool ListImageFiles(const std::string& dir, std::vector<std::string>* paths,
   std::vector<std::pair<NameKey, std::string>> found;
   for (fs::directory_iterator it(dir, ec), end; !ec && it != end;
        it.increment(ec)) {
-    if (!it->is_regular_file(ec)) continue;
+    // Not only regular files: a FIFO, folder or broken link named like an
+    // image is a frame whose image cannot be read (an error when decoded),
+    // not a frame silently dropped (poses.txt is paired by index).
     const fs::path& p = it->path();
     if (!IsImageExtension(p.extension().string())) continue;
     found.emplace_back(KeyOf(p.filename().string()), p.string());
@@ -181,7 +189,8 @@ bool ReadKittiStereoCalibration(const std::string& path,
                                 StereoCalibration* calibration,
                                 std::string* error) {
   std::string text;
-  if (!text::ReadWholeFile(path, &text, error)) return false;
+  if (!text::ReadWholeFile(path, &text, error, kMaxCalibrationBytes))
+    return false;
   text::LineTokenizer lines(text);
   double p[2][12];
   bool have[2] = {false, false};
@@ -270,6 +279,26 @@ bool ReadKittiStereoCalibration(const std::string& path,
     return fail(line_of[1],
                 "the baseline -P1[0][3] / P1[0][0] must be positive (right "
                 "camera to the right of the left one)");
+  }
+  // Plausible ranges (the image size is checked with the first image,
+  // frontends/stereo/stereo_images.h): a rig from 0.1 mm to 10 km apart in
+  // the calibration's unit (KITTI: metres; millimetres still fit), pixels
+  // at most 4 times taller than wide.
+  auto number = [](double v) {
+    std::string out;
+    text::AppendDouble(v, &out);
+    return out;
+  };
+  if (baseline < 1e-4 || baseline > 1e4) {
+    return fail(line_of[1],
+                "baseline -P1[0][3] / P1[0][0] = " + number(baseline) +
+                    " outside [1e-4, 1e4] (metres in KITTI's "
+                    "calib.txt): not a stereo rig");
+  }
+  if (fy > 4 * fx || fx > 4 * fy) {
+    return fail(line_of[0], "focal lengths fx = " + number(fx) +
+                                " and fy = " + number(fy) +
+                                " differ by more than a factor of 4");
   }
   calibration->fx = fx;
   calibration->fy = fy;
@@ -372,7 +401,8 @@ bool ReadKittiSequence(const std::string& dir,
   const bool date_times = s.raw_layout && options.times_path.empty();
   if (!options.times_path.empty() || fs::exists(times_path, ec)) {
     std::string text;
-    if (!text::ReadWholeFile(times_path, &text, error)) return false;
+    if (!text::ReadWholeFile(times_path, &text, error, kMaxTimesBytes))
+      return false;
     text::LineTokenizer lines(text);
     while (lines.Next()) {
       const auto& tokens = lines.tokens();

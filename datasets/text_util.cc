@@ -4,6 +4,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -35,7 +36,9 @@ enum class NumberStatus { kOk, kBad, kNonFinite, kOutOfRange };
 
 bool ReadWholeFile(const std::string& path, std::string* contents,
                    std::string* error, size_t max_bytes) {
-  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  // O_NONBLOCK: opening a FIFO that has no writer would block until one
+  // comes; reading it then ends at once (cleared below for the reads).
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
   if (fd < 0) {
     *error = path + ": cannot open: " + ErrnoText(errno);
     return false;
@@ -46,14 +49,28 @@ bool ReadWholeFile(const std::string& path, std::string* contents,
     err = errno;
   } else if (S_ISDIR(st.st_mode)) {
     err = EISDIR;
+  } else {
+    const int flags = ::fcntl(fd, F_GETFL);
+    if (flags < 0 || ::fcntl(fd, F_SETFL, flags & ~O_NONBLOCK) != 0) {
+      err = errno;
+    }
   }
   if (err != 0) {
     ::close(fd);
     *error = path + ": cannot open: " + ErrnoText(err);
     return false;
   }
+  const bool regular = S_ISREG(st.st_mode);
+  if (regular && static_cast<uint64_t>(st.st_size) > max_bytes) {
+    ::close(fd);
+    *error = path + ": larger than " + std::to_string(max_bytes) + " bytes";
+    return false;
+  }
+  // A pipe or device has no size to check: it is read up to a bound
+  // (/dev/zero never ends).
+  if (!regular) max_bytes = std::min(max_bytes, kMaxStreamedBytes);
   contents->clear();
-  if (S_ISREG(st.st_mode) && st.st_size > 0) {
+  if (regular && st.st_size > 0) {
     contents->reserve(static_cast<size_t>(st.st_size));
   }
   char buffer[1 << 16];
@@ -76,6 +93,10 @@ bool ReadWholeFile(const std::string& path, std::string* contents,
     contents->append(buffer, static_cast<size_t>(n));
   }
   ::close(fd);
+  if (S_ISFIFO(st.st_mode) && contents->empty()) {
+    *error = path + ": a FIFO with no writer (nothing to read)";
+    return false;
+  }
   return true;
 }
 

@@ -25,7 +25,12 @@ namespace slam::text {
 
 // Reads the whole file into *contents. Error: "PATH: cannot open: reason",
 // or "PATH: larger than N bytes" past max_bytes (a bound for inputs that
-// must be small, such as configs; /dev/zero never ends).
+// must be small, such as configs; every reader passes what its format can
+// plausibly need). A pipe or device (/dev/stdin, /dev/zero: no size known
+// in advance) is read up to min(max_bytes, kMaxStreamedBytes); a FIFO is
+// opened without waiting for a writer, and one without a writer is an error
+// (nothing to read), never a hang.
+constexpr size_t kMaxStreamedBytes = size_t{256} << 20;  // 256 MiB.
 bool ReadWholeFile(const std::string& path, std::string* contents,
                    std::string* error, size_t max_bytes = SIZE_MAX);
 

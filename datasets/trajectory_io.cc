@@ -411,7 +411,8 @@ class FileText {
       *error = path + ": is a directory, not a trajectory file";
       return false;
     }
-    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    // Not blocking on a FIFO without a writer (see text::ReadWholeFile).
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
     struct stat st;
     if (fd >= 0 && ::fstat(fd, &st) == 0 && S_ISREG(st.st_mode) &&
         st.st_size > 0) {

@@ -16,7 +16,7 @@ seconds="${1:-30}"
 build="${SLAM_ASAN_BUILD:-build_asan}"
 jobs="${SLAM_JOBS:-2}"
 data=tests/data
-read -r -a targets <<< "${SLAM_FUZZ_TARGETS:-g2o toro isam trajectory relations carmen imu stereo_vo config}"
+read -r -a targets <<< "${SLAM_FUZZ_TARGETS:-g2o toro isam trajectory relations carmen imu stereo_vo config visual}"
 
 bash scripts/sanitizer_build.sh "${targets[@]/#/fuzz_}"
 
@@ -62,6 +62,42 @@ seed imu "$data/leica_small.csv" 3
 seed stereo_vo "$data/stereo_vo_factors.txt" 0
 seed stereo_vo "$data/stereo_vo_calibration.txt" 1
 seed stereo_vo "$data/stereo_vo_poses.txt" 2
+# Visual readers (fuzz/fuzz_visual.cc): calib.txt, times.txt, KITTI poses,
+# then vocabularies (binary, DBoW2 YAML, gzipped YAML; made here).
+printf 'P0: 300 0 160 0 0 300 60 0 0 0 1 0\nP1: 300 0 160 -150 0 300 60 0 0 0 1 0\n' \
+  > "$work/calib.txt"
+seed visual "$work/calib.txt" 0
+seed visual "$work/times.txt" 1
+seed visual "$data/kitti_small.txt" 2
+{
+  printf 'SLAMBOW1'
+  printf '\x02\x00\x00\x00\x01\x00\x00\x00\x20\x00\x00\x00\x03\x00\x00\x00'
+  for node in 1 2; do
+    printf '\x00\x00\x00\x00'                  # Parent: the root.
+    printf '\x00\x00\x00\x00\x00\x00\xf0\x3f'  # Weight 1.0.
+    head -c 32 /dev/zero | tr '\0' "\\$((node + 1))"
+  done
+} > "$work/voc.bin"
+seed visual "$work/voc.bin" 3
+descriptor="$(printf '7 %.0s' $(seq 32))"
+cat > "$work/voc.yml" <<YAML
+%YAML:1.0
+---
+vocabulary:
+   k: 2
+   L: 1
+   scoringType: 0
+   weightingType: 0
+   nodes:
+      - { nodeId:1, parentId:0, weight:1., descriptor:"${descriptor% }" }
+      - { nodeId:2, parentId:0, weight:0.5, descriptor:"${descriptor% }" }
+   words:
+      - { wordId:0, nodeId:1 }
+      - { wordId:1, nodeId:2 }
+YAML
+seed visual "$work/voc.yml" 4
+gzip -c "$work/voc.yml" > "$work/voc.yml.gz"
+seed visual "$work/voc.yml.gz" 5
 for f in configs/*.yaml configs/benchmarks/*.yaml; do
   for selector in 0 1 2 3 4; do seed config "$f" "$selector"; done
 done

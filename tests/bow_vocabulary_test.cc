@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include <zlib.h>
+
 #include "frontends/bow/database.h"
 #include "frontends/bow/vocabulary.h"
 #include "gtest/gtest.h"
@@ -374,6 +376,55 @@ TEST(VocabularyTest, BadDbow2YamlNamesTheProblem) {
     EXPECT_TRUE(testing::Contains(error, cases[i].expected)) << error;
     EXPECT_TRUE(voc.empty());
   }
+}
+
+// Writes `text` gzipped.
+void WriteGzip(const std::string& path, const std::string& text) {
+  gzFile f = gzopen(path.c_str(), "wb9");
+  ASSERT_NE(f, nullptr);
+  ASSERT_EQ(gzwrite(f, text.data(), static_cast<unsigned>(text.size())),
+            static_cast<int>(text.size()));
+  gzclose(f);
+}
+
+// Issue 26: gzipped YAML is decompressed piece by piece with a bound (a
+// 400 MiB bomb of YAML comments was inflated whole by OpenCV), and
+// reads as the plain text does.
+TEST(VocabularyTest, GzippedYamlIsReadWithABoundedSize) {
+  std::mt19937 rng(5);
+  std::vector<Descriptor> centres;
+  for (int i = 0; i < 4; ++i) centres.push_back(RandomDescriptor(&rng));
+  const std::string dir = testing::TempDir();
+  WriteGzip(dir + "/hand.yml.gz", HandmadeYaml(centres, {0.5, 1, 2, 3}));
+  Vocabulary voc;
+  std::string error;
+  ASSERT_TRUE(voc.Load(dir + "/hand.yml.gz", &error)) << error;
+  ASSERT_EQ(voc.size(), 4u);
+  for (int i = 0; i < 4; ++i) {
+    EXPECT_EQ(voc.Quantize(centres[i].data(), 0, nullptr),
+              static_cast<WordId>(i));
+  }
+  EXPECT_EQ(voc.WordWeight(3), 3.0);
+  // Truncated gzip data.
+  const std::string gz = testing::ReadText(dir + "/hand.yml.gz");
+  testing::WriteText(dir + "/cut.yml.gz", gz.substr(0, gz.size() / 2));
+  EXPECT_FALSE(voc.Load(dir + "/cut.yml.gz", &error));
+  EXPECT_TRUE(testing::Contains(error, "cut.yml.gz: corrupt or truncated"))
+      << error;
+  // 400 MiB of text in about 400 kB: 400 gzip members of 1 MiB each (as
+  // `cat a.gz b.gz` makes), after one holding the YAML header.
+  WriteGzip(dir + "/header.gz", "%YAML:1.0\n---\n");
+  WriteGzip(dir + "/mib.gz", std::string(size_t{1} << 20, '#'));
+  std::string bomb = testing::ReadText(dir + "/header.gz");
+  const std::string mib = testing::ReadText(dir + "/mib.gz");
+  for (int i = 0; i < 400; ++i) bomb += mib;
+  testing::WriteText(dir + "/bomb.yml.gz", bomb);
+  Vocabulary fresh;
+  EXPECT_FALSE(fresh.Load(dir + "/bomb.yml.gz", &error));
+  EXPECT_TRUE(testing::Contains(error,
+                                "bomb.yml.gz: decompresses to more than"))
+      << error;
+  EXPECT_TRUE(fresh.empty());
 }
 
 TEST(VocabularyTest, ReadsTheSharedDbow2Vocabulary) {

@@ -8,6 +8,7 @@
 //     |r|^2 = e^T Omega e and r = L^T e;
 //   * zero residual at the measurement, quaternion sign invariance;
 //   * the builders' bookkeeping and their rejection of bad information.
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <random>
@@ -806,6 +807,54 @@ TEST(GraphFactorTest, Chi2SumsFactorErrorsAndRejectsBadFactors) {
                              Matrix6d::Identity(), &wrong_kind, &error));
   EXPECT_EQ(graph.AddFactor(wrong_kind), -1);
   EXPECT_EQ(graph.NumFactors(), 4u);
+}
+
+// Removing nodes goes through the node -> factor index: the factors left
+// and the index agree with a brute-force recount after every change.
+TEST(GraphFactorTest, RemovingNodesKeepsTheFactorIndexExact) {
+  Graph graph;
+  std::string error;
+  for (int i = 0; i < 6; ++i) {
+    ASSERT_NE(graph.AddNode(Pose3Key(i), Pose3Value(Pose3())), nullptr);
+  }
+  auto between = [&](int i, int j) {
+    Factor f;
+    EXPECT_TRUE(MakeBetweenSE3(Pose3Key(i), Pose3Key(j), Pose3(),
+                               Matrix6d::Identity(), &f, &error));
+    return graph.AddFactor(f);
+  };
+  for (int i = 0; i + 1 < 6; ++i) ASSERT_GE(between(i, i + 1), 0);
+  const FactorId chord = between(0, 3);
+  ASSERT_GE(between(2, 5), 0);
+  auto check_index = [&]() {
+    for (const auto& [key, node] : graph.nodes()) {
+      std::vector<FactorId> expected;
+      for (const auto& [id, factor] : graph.factors()) {
+        if (std::find(factor.keys.begin(), factor.keys.end(), key) !=
+            factor.keys.end()) {
+          expected.push_back(id);
+        }
+      }
+      EXPECT_EQ(graph.FactorsOf(key), expected) << key.ToString();
+    }
+  };
+  check_index();
+  EXPECT_EQ(graph.FactorsOf(Pose3Key(0)).size(), 2u);
+  EXPECT_TRUE(graph.RemoveFactor(chord));
+  EXPECT_FALSE(graph.RemoveFactor(chord));
+  check_index();
+  // Two removed nodes sharing a factor, one absent key.
+  EXPECT_EQ(graph.RemoveNodes({Pose3Key(2), Pose3Key(3), Pose3Key(99)}), 2u);
+  EXPECT_EQ(graph.NumFactors(), 2u);  // 0-1 and 4-5 are left.
+  EXPECT_TRUE(graph.FactorsOf(Pose3Key(2)).empty());
+  check_index();
+  EXPECT_TRUE(graph.RemoveNode(Pose3Key(5)));
+  EXPECT_FALSE(graph.RemoveNode(Pose3Key(5)));
+  EXPECT_EQ(graph.NumFactors(), 1u);
+  check_index();
+  // New factors after removals are indexed too.
+  ASSERT_GE(between(1, 4), 0);
+  check_index();
 }
 
 }  // namespace

@@ -1,5 +1,8 @@
 // `slam vocabulary` and `slam loops`: bad input gives a clear error and no
 // output; the rtabmap samples meet the issue's target with the defaults.
+#include <sys/stat.h>
+
+#include <filesystem>
 #include <regex>
 #include <string>
 
@@ -138,6 +141,120 @@ TEST(LoopsCommandTest, BadInputFailsNamingTheFileWithoutOutput) {
             0);
   EXPECT_TRUE(Contains(ReadText(log), dir + "/missing")) << ReadText(log);
   EXPECT_FALSE(Exists(voc));
+}
+
+// Issue 26: the image commands check their flags, outputs and inputs
+// before the work, refuse images ORB cannot take and endless inputs, and a
+// failure leaves no folder behind.
+TEST(LoopsCommandTest, ChecksComeBeforeTheWorkAndFailuresLeaveNothing) {
+  const std::string dir = testing::TempDir();
+  const std::string log = dir + "/log.txt";
+  const std::string images = MakeImages(dir + "/images", 3);
+  const std::string voc = dir + "/out.voc";
+  // Feature extraction prints "features: N / N images" on stderr: a check
+  // that fails before the work fails before that line.
+  struct Case {
+    std::string args;
+    int code;
+    std::string expected;
+  };
+  std::filesystem::create_directories(dir + "/a_folder");
+  const std::vector<Case> cases = {
+      {"vocabulary --images " + images + " -o " + voc +
+           " --orb_features 2000000000",
+       2, "--orb_features must be in [10, 100000]"},
+      {"vocabulary --images " + images + " -o " + voc + " --k 1", 2,
+       "branching factor k = 1"},
+      {"vocabulary --images " + images + " -o " + voc + " --k 100000", 2,
+       "branching factor k = 100000"},
+      {"vocabulary --images " + images + " -o " + voc + " --levels 0", 2,
+       "levels L = 0"},
+      {"vocabulary --images " + images + " -o " + voc + " --levels 20", 2,
+       "levels L = 20"},
+      {"vocabulary --images " + images + " -o " + dir + "/a_folder", 1,
+       dir + "/a_folder: is a directory"},
+      {"vocabulary --images " + images + " -o " + dir + "/no/such.voc", 1,
+       "the folder " + dir + "/no does not exist"},
+      {"vocabulary --images " + images + " -o /proc/no_such_file.voc", 1,
+       "cannot write in /proc"},
+      {"vocabulary --voc /dev/zero -o " + voc, 1, "/dev/zero: larger than"},
+      {"loops --images " + images + " --report " + dir + "/a_folder", 1,
+       dir + "/a_folder: is a directory"},
+      {"loops --images " + images + " --report " + dir + "/no/r.json", 1,
+       "the folder " + dir + "/no does not exist"},
+  };
+  for (const Case& c : cases) {
+    EXPECT_EQ(RunSlam(c.args, log), c.code) << c.args << "\n" << ReadText(log);
+    EXPECT_TRUE(Contains(ReadText(log), c.expected)) << c.args << "\n"
+                                                     << ReadText(log);
+    EXPECT_FALSE(Contains(ReadText(log), "features:")) << c.args << "\n"
+                                                       << ReadText(log);
+    EXPECT_FALSE(Exists(voc));
+  }
+
+  // Images too small for ORB's pyramid (cv::resize asserted on them), one
+  // among real ones: named.
+  cv::imwrite(images + "/2.png", cv::Mat(1, 1, CV_8U, cv::Scalar(128)));
+  for (const std::string& args :
+       {"vocabulary --images " + images + " -o " + voc,
+        "loops --images " + images}) {
+    EXPECT_EQ(RunSlam(args, log), 1) << args << "\n" << ReadText(log);
+    EXPECT_TRUE(Contains(ReadText(log), images +
+                                            "/2.png: 1x1 pixels: too small "
+                                            "for the feature pyramid"))
+        << ReadText(log);
+  }
+
+  // Featureless images fail training after the folder of the plots was
+  // made: the folder goes with the failure; the vocabulary command says why.
+  const std::string blank = dir + "/blank";
+  std::filesystem::create_directories(blank);
+  for (int i = 1; i <= 3; ++i) {
+    cv::imwrite(blank + "/" + std::to_string(i) + ".png",
+                cv::Mat(120, 160, CV_8U, cv::Scalar(0)));
+  }
+  EXPECT_EQ(RunSlam("loops --images " + blank + " --plot " + dir +
+                        "/new/plots --report " + dir + "/r.json",
+                    log),
+            1)
+      << ReadText(log);
+  EXPECT_FALSE(Exists(dir + "/new")) << ReadText(log);
+  EXPECT_EQ(RunSlam("vocabulary --images " + blank + " -o " + voc, log), 1);
+  EXPECT_TRUE(Contains(ReadText(log), "no ORB feature in any of the 3 images"))
+      << ReadText(log);
+
+  // A FIFO without a writer as a text input: an error, not a hang.
+  ASSERT_EQ(::mkfifo((dir + "/fifo.yaml").c_str(), 0600), 0);
+  EXPECT_EQ(
+      RunSlam("loops --images " + images + " --config " + dir + "/fifo.yaml",
+              log),
+      1);
+  EXPECT_TRUE(Contains(ReadText(log), "fifo.yaml: a FIFO with no writer"))
+      << ReadText(log);
+  ASSERT_EQ(::mkfifo((dir + "/fifo.bmp").c_str(), 0600), 0);
+  EXPECT_EQ(
+      RunSlam("loops --images " + images + " --gt " + dir + "/fifo.bmp", log),
+      1);
+  EXPECT_TRUE(Contains(ReadText(log),
+                       "fifo.bmp: cannot read the image: not "
+                       "a regular file (a FIFO)"))
+      << ReadText(log);
+}
+
+// Standard output closed by its reader: the command is not killed by
+// SIGPIPE (exit 141) but fails on the write error.
+TEST(LoopsCommandTest, AClosedStdoutIsAnErrorNotASignal) {
+  const std::string dir = testing::TempDir();
+  const std::string script = dir + "/pipe.sh";
+  testing::WriteText(script, "set -o pipefail\n" + std::string(SLAM_BINARY) +
+                                 " loops --dump_config 2> " + dir +
+                                 "/err.txt | (exec 0<&-; sleep 0.5)\n");
+  const int status = std::system(("bash " + script).c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 1);
+  EXPECT_TRUE(
+      Contains(ReadText(dir + "/err.txt"), "cannot write to standard output"))
+      << ReadText(dir + "/err.txt");
 }
 
 TEST(LoopsCommandTest, VocabularyCommandTrainsAndConverts) {

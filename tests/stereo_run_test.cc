@@ -4,6 +4,8 @@
 // sequence (bad input: clear message, exit 1, no outputs) and on the shared
 // KITTI 06 excerpt (accuracy bounds, outputs, the g2o graph read back by
 // slam optimize, and the forward-backward loop).
+#include <sys/stat.h>
+
 #include <cmath>
 #include <filesystem>
 #include <functional>
@@ -322,13 +324,41 @@ TEST(StereoRunTest, RunsOnASyntheticImageSequence) {
   EXPECT_TRUE(Contains(report, "\"median_ms\"")) << report;
 }
 
+// Each case damages a fresh 6-frame sequence: `slam run` fails with exit
+// 1, the message, and writes nothing.
+struct BadInputCase {
+  const char* what;
+  std::function<void(const std::string&)> damage;
+  const char* expected;
+};
+
+// Every image of the 6-frame sequence in `dir` becomes `image`.
+void ReplaceImages(const std::string& dir, const cv::Mat& image) {
+  for (const char* side : {"/image_0/", "/image_1/"}) {
+    for (int k = 0; k < 6; ++k) {
+      char name[16];
+      std::snprintf(name, sizeof(name), "%06d.png", k);
+      cv::imwrite(dir + side + name, image);
+    }
+  }
+}
+
+void ExpectFailures(const std::vector<BadInputCase>& cases) {
+  for (const BadInputCase& c : cases) {
+    const std::string dir = TempDir();
+    WriteSequence(dir + "/seq", 6);
+    c.damage(dir + "/seq");
+    EXPECT_EQ(RunStereo(dir, dir + "/seq"), 1) << c.what;
+    const std::string log = ReadText(dir + "/log.txt");
+    EXPECT_TRUE(Contains(log, c.expected)) << c.what << ": " << log;
+    // Nothing written, not even the output folder (made before the work,
+    // removed with the failure).
+    EXPECT_FALSE(Exists(dir + "/out")) << c.what;
+  }
+}
+
 TEST(StereoRunTest, BadInputFailsWithAMessageAndNoOutputs) {
-  struct Case {
-    const char* what;
-    std::function<void(const std::string&)> damage;
-    const char* expected;
-  };
-  const Case cases[] = {
+  ExpectFailures({
       {"missing right image",
        [](const std::string& s) { fs::remove(s + "/image_1/000003.png"); },
        "image_0 has 6 images but image_1 has 5"},
@@ -355,36 +385,211 @@ TEST(StereoRunTest, BadInputFailsWithAMessageAndNoOutputs) {
                      cv::Mat(60, 160, CV_8U, cv::Scalar(9)));
        },
        "160x60 but the left image"},
-  };
-  for (const Case& c : cases) {
-    const std::string dir = TempDir();
-    WriteSequence(dir + "/seq", 6);
-    c.damage(dir + "/seq");
-    EXPECT_EQ(RunStereo(dir, dir + "/seq"), 1) << c.what;
+  });
+}
+
+// Issue 26: images that must not be decoded or are not images, endless or
+// writerless text inputs and absurd calibrations.
+TEST(StereoRunTest, UnreadableOrAbsurdInputFailsBeforeTheWork) {
+  ExpectFailures({
+      // A header declaring a huge image is refused unread, on the first
+      // pair and in the thread that decodes the next pair ahead.
+      {"huge image header, frame 0",
+       [](const std::string& s) {
+         WriteText(s + "/image_0/000000.png",
+                   testing::PngDeclaring(60000, 60000));
+       },
+       "image_0/000000.png: the header declares 60000x60000 pixels"},
+      {"huge image header, frame 5 (decoded ahead)",
+       [](const std::string& s) {
+         WriteText(s + "/image_1/000005.png",
+                   testing::PngDeclaring(60000, 60000));
+       },
+       "image_1/000005.png: the header declares 60000x60000 pixels"},
+      // Files named like images that are not regular files are frames whose
+      // images cannot be read (poses.txt is paired by index), on one side
+      // or both.
+      {"FIFO named like an image on both sides",
+       [](const std::string& s) {
+         for (const char* side : {"/image_0/", "/image_1/"}) {
+           fs::remove(s + side + "000003.png");
+           ::mkfifo((s + side + "000003.png").c_str(), 0600);
+         }
+       },
+       "image_0/000003.png: cannot read the image: not a regular file"},
+      {"dangling link named like an image on one side",
+       [](const std::string& s) {
+         fs::remove(s + "/image_1/000002.png");
+         fs::create_symlink(s + "/nowhere.png", s + "/image_1/000002.png");
+       },
+       "image_1/000002.png: cannot read the image: No such file"},
+      {"folder named like an image on both sides",
+       [](const std::string& s) {
+         for (const char* side : {"/image_0/", "/image_1/"}) {
+           fs::create_directories(s + side + "000009.png");
+         }
+       },
+       "image_0/000009.png: cannot read the image: not a regular file"},
+      // Absurd calibrations (they ran with most frames lost).
+      {"baseline of 1.9e-303 m",
+       [](const std::string& s) {
+         WriteText(s + "/calib.txt",
+                   "P0: 300 0 160 0 0 300 60 0 0 0 1 0\n"
+                   "P1: 300 0 160 -5.7e-301 0 300 60 0 0 0 1 0\n");
+       },
+       "calib.txt:2: baseline -P1[0][3] / P1[0][0] = 1.9"},
+      {"baseline of 2.8e297 m",
+       [](const std::string& s) {
+         WriteText(s + "/calib.txt",
+                   "P0: 300 0 160 0 0 300 60 0 0 0 1 0\n"
+                   "P1: 300 0 160 -8.4e299 0 300 60 0 0 0 1 0\n");
+       },
+       "e+297 outside [1e-4, 1e4] (metres"},
+      {"focal length of 1e-300",
+       [](const std::string& s) {
+         WriteText(s + "/calib.txt",
+                   "P0: 1e-300 0 160 0 0 1e-300 60 0 0 0 1 0\n"
+                   "P1: 1e-300 0 160 -5e-301 0 1e-300 60 0 0 0 1 0\n");
+       },
+       "the focal length fx = 1e-300 of"},
+      // Endless or writerless text inputs: bounded, never a hang.
+      {"calib.txt is /dev/zero",
+       [](const std::string& s) {
+         fs::remove(s + "/calib.txt");
+         fs::create_symlink("/dev/zero", s + "/calib.txt");
+       },
+       "calib.txt: larger than 1048576 bytes"},
+      {"times.txt is /dev/zero",
+       [](const std::string& s) {
+         fs::create_symlink("/dev/zero", s + "/times.txt");
+       },
+       "times.txt: larger than 67108864 bytes"},
+      {"calib.txt is a FIFO without a writer",
+       [](const std::string& s) {
+         fs::remove(s + "/calib.txt");
+         ::mkfifo((s + "/calib.txt").c_str(), 0600);
+       },
+       "calib.txt: a FIFO with no writer"},
+      // Nothing to track: a clear failure, not an identity trajectory.
+      {"featureless (black) images",
+       [](const std::string& s) {
+         ReplaceImages(s, cv::Mat(120, 320, CV_8U, cv::Scalar(0)));
+       },
+       "frames 0-5: none has the 50 points with depth needed to start the "
+       "map"},
+      {"images too small for the feature pyramid",
+       [](const std::string& s) {
+         ReplaceImages(s, cv::Mat(1, 613, CV_8U, cv::Scalar(90)));
+         WriteText(s + "/calib.txt",
+                   "P0: 300 0 306 0 0 300 0.5 0 0 0 1 0\n"
+                   "P1: 300 0 306 -150 0 300 0.5 0 0 0 1 0\n");
+       },
+       "image_0/000000.png: 613x1 pixels: too small for the feature "
+       "pyramid"},
+  });
+}
+
+// Checks that need no frame come before the first one (issue 26 item 10):
+// the loop closure's vocabulary file and the report's path.
+TEST(StereoRunTest, InputsAndOutputsAreCheckedBeforeTheFirstFrame) {
+  const std::string dir = TempDir();
+  WriteSequence(dir + "/seq", 6);
+  fs::create_directories(dir + "/a_folder");
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"loop_closure:\n    enabled: true\nloops:\n  vocabulary: " + dir +
+           "/missing.voc\n",
+       dir + "/missing.voc: cannot open"},
+      {"", "--report " + dir + "/a_folder: is a directory"}};
+  for (const auto& [extra, expected] : cases) {
+    WriteText(dir + "/run.yaml", "run:\n  pipeline: stereo\n  sequence: " +
+                                     dir + "/seq\n  output_dir: " + dir +
+                                     "/out\n" +
+                                     (extra.empty() ? "" : "  " + extra));
+    const std::string report =
+        extra.empty() ? dir + "/a_folder" : dir + "/r.json";
+    EXPECT_EQ(RunSlam("run --config " + dir + "/run.yaml --report " + report,
+                      dir + "/log.txt"),
+              1);
     const std::string log = ReadText(dir + "/log.txt");
-    EXPECT_TRUE(Contains(log, c.expected)) << c.what << ": " << log;
-    // Nothing written (the output folder may exist, empty).
-    EXPECT_TRUE(!Exists(dir + "/out") || fs::is_empty(dir + "/out")) << c.what;
+    EXPECT_TRUE(Contains(log, expected)) << log;
+    EXPECT_FALSE(Contains(log, "processing")) << log;  // No frame processed.
+    EXPECT_FALSE(Exists(dir + "/out")) << log;
+  }
+}
+
+// A frame without features is lost and said so; one frame with poses.txt
+// runs and reports the evaluation as not computed (issue 26 items 6, 8).
+TEST(StereoRunTest, LostFramesAreReportedAndOneFrameRuns) {
+  const std::string dir = TempDir();
+  WriteSequence(dir + "/seq", 8);
+  for (const char* side : {"/image_0/", "/image_1/"}) {
+    cv::imwrite(dir + "/seq" + side + "000004.png",
+                cv::Mat(120, 320, CV_8U, cv::Scalar(255)));
+  }
+  ASSERT_EQ(RunStereo(dir, dir + "/seq"), 0) << ReadText(dir + "/log.txt");
+  std::string log = ReadText(dir + "/log.txt");
+  EXPECT_TRUE(Contains(log, "run: warning: ")) << log;
+  EXPECT_TRUE(Contains(log, "of 8 frames lost (no pose from their images"))
+      << log;
+  EXPECT_FALSE(Contains(ReadText(dir + "/out/report.json"),
+                        "\"lost_frames\": 0"));
+
+  const std::string one = dir + "/one";
+  WriteSequence(one + "/seq", 1);
+  WriteText(one + "/seq/poses.txt", "1 0 0 0 0 1 0 0 0 0 1 0\n");
+  ASSERT_EQ(RunStereo(one, one + "/seq"), 0) << ReadText(one + "/log.txt");
+  log = ReadText(one + "/log.txt");
+  EXPECT_TRUE(Contains(log, "run: evaluation not computed: ")) << log;
+  EXPECT_TRUE(Exists(one + "/out/trajectory_kitti.txt"));
+  const std::string report = ReadText(one + "/out/report.json");
+  EXPECT_TRUE(Contains(report, "\"computed\": false")) << report;
+}
+
+// Stopped by a signal mid-run: no temporary and no empty output folder
+// (issue 26 item 11).
+TEST(StereoRunTest, ASignalLeavesNoOutputFolder) {
+  const std::string dir = TempDir();
+  WriteSequence(dir + "/seq", 60);
+  WriteText(dir + "/run.yaml", "run:\n  pipeline: stereo\n  sequence: " + dir +
+                                   "/seq\n  output_dir: " + dir +
+                                   "/new/out\n");
+  // (Not INT or QUIT: a shell starts background jobs with those ignored,
+  // and an ignored signal stays ignored.)
+  for (const char* signal : {"TERM", "HUP"}) {
+    // Waits for the folder (made before the first frame), then signals.
+    const std::string script =
+        std::string(SLAM_BINARY) + " run --config " + dir + "/run.yaml > " +
+        dir + "/log.txt 2>&1 & pid=$!; for i in $(seq 400); do [ -d " + dir +
+        "/new/out ] && break; sleep 0.01; done; sleep 0.2; kill -" + signal +
+        " $pid; wait $pid; echo $? > " + dir + "/code.txt";
+    ASSERT_EQ(std::system(("bash -c '" + script + "'").c_str()), 0);
+    EXPECT_NE(ReadText(dir + "/code.txt"), "0\n") << signal;
+    EXPECT_FALSE(Exists(dir + "/new")) << signal << ": "
+                                       << ReadText(dir + "/log.txt");
   }
 }
 
 TEST(StereoRunTest, AFailureAfterTheWorkPublishesNoOutput) {
-  // The report, written last, cannot be written: none of the outputs
-  // written before it may be left behind.
+  // map.png, written after the trajectories, the graph and the timings,
+  // cannot be written (a folder of that name): none of the outputs written
+  // before it may be left behind.
   const std::string dir = TempDir();
   WriteSequence(dir + "/seq", 5);
+  fs::create_directories(dir + "/out/map.png");
   WriteText(dir + "/run.yaml", "run:\n  pipeline: stereo\n  sequence: " + dir +
                                    "/seq\n  output_dir: " + dir + "/out\n");
   EXPECT_EQ(RunSlam("run --config " + dir + "/run.yaml --report " + dir +
-                        "/missing_dir/report.json",
+                        "/report.json",
                     dir + "/log.txt"),
             1)
       << ReadText(dir + "/log.txt");
-  EXPECT_TRUE(Contains(ReadText(dir + "/log.txt"), "missing_dir"))
+  EXPECT_TRUE(Contains(ReadText(dir + "/log.txt"), "map.png: is a directory"))
       << ReadText(dir + "/log.txt");
   for (const auto& entry : fs::recursive_directory_iterator(dir + "/out")) {
+    if (entry.path().filename() == "map.png") continue;
     ADD_FAILURE() << "left behind: " << entry.path();
   }
+  EXPECT_FALSE(Exists(dir + "/report.json"));
 }
 
 // The report's numbers ("key": value).

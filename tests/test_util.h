@@ -5,6 +5,7 @@
 
 #include <sys/wait.h>
 #include <unistd.h>
+#include <cstdint>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -92,6 +93,19 @@ inline bool Exists(const std::string& path) {
 
 inline bool Contains(const std::string& text, const std::string& part) {
   return text.find(part) != std::string::npos;
+}
+
+// 100 bytes starting like a PNG file whose header (IHDR) declares
+// width x height 8-bit grey pixels, followed by junk: what a decoder that
+// trusts the header would allocate for.
+inline std::string PngDeclaring(uint32_t width, uint32_t height) {
+  std::string png("\x89PNG\r\n\x1a\n\0\0\0\x0dIHDR", 16);
+  for (uint32_t v : {width, height}) {
+    for (int shift = 24; shift >= 0; shift -= 8) png += char(v >> shift);
+  }
+  png += std::string("\x08\0\0\0\0", 5);  // Depth 8, grey, no interlace.
+  png.resize(100, '\x5a');
+  return png;
 }
 
 // Runs the slam binary with `args`; returns its exit code. stdout and stderr

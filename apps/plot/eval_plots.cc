@@ -10,6 +10,7 @@
 #include "apps/eval_report.h"
 #include "apps/format.h"
 #include "apps/plot/plot.h"
+#include "datasets/atomic_file.h"
 
 namespace slam {
 namespace {
@@ -51,12 +52,8 @@ void AddStatLines(const ErrorStatistics& s, const char* unit,
 bool WriteEvalPlotsImpl(const std::string& dir, const EvalResult& r,
                         const EvalSettings& s, const EvalLabels& labels,
                         std::vector<std::string>* written, std::string* error) {
-  std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  if (ec) {
-    *error = dir + ": cannot create the plot directory (" + ec.message() + ")";
-    return false;
-  }
+  // Removed again if the command fails (datasets/atomic_file.h).
+  if (!CreateOutputFolder(dir, error)) return false;
   // Project on a plane: drop the axis along which the reference moves least
   // (z for a ground vehicle in a z-up world, y for KITTI's camera frames).
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300);

@@ -3,7 +3,8 @@
 #include <cstdio>
 
 #include <opencv2/features2d.hpp>
-#include <opencv2/imgcodecs.hpp>
+
+#include "frontends/image_io.h"
 
 namespace slam {
 
@@ -11,20 +12,12 @@ bool ExtractOrbFeatures(const std::vector<std::string>& paths, int orb_features,
                         std::vector<ImageFeatures>* features,
                         std::string* error) {
   cv::Ptr<cv::ORB> orb = cv::ORB::create(orb_features);
+  const int min_side = OrbMinImageSide(orb->getNLevels(), orb->getScaleFactor(),
+                                       orb->getEdgeThreshold());
   features->assign(paths.size(), ImageFeatures());
   for (size_t i = 0; i < paths.size(); ++i) {
     cv::Mat image;
-    try {
-      image = cv::imread(paths[i], cv::IMREAD_GRAYSCALE);
-    } catch (const cv::Exception& e) {
-      image.release();
-    }
-    if (image.empty()) {
-      *error = paths[i] +
-               ": cannot read the image (missing, corrupt or not "
-               "an image format OpenCV reads)";
-      return false;
-    }
+    if (!ReadGrayImage(paths[i], min_side, &image, error)) return false;
     orb->detectAndCompute(image, cv::noArray(), (*features)[i].keypoints,
                           (*features)[i].descriptors);
     if ((i + 1) % 50 == 0 || i + 1 == paths.size()) {

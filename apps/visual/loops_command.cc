@@ -45,6 +45,7 @@
 #include "apps/visual/visual_commands.h"
 #include "datasets/atomic_file.h"
 #include "frontends/bow/loop_detector.h"
+#include "frontends/image_io.h"
 
 DECLARE_string(images);
 DECLARE_string(voc);
@@ -119,15 +120,14 @@ std::string Name(const std::string& path) {
 
 bool ReadGroundTruth(const std::string& path, size_t num_images, cv::Mat* gt,
                      std::string* error) {
-  try {
-    *gt = cv::imread(path, cv::IMREAD_GRAYSCALE);
-  } catch (const cv::Exception&) {
-    gt->release();
-  }
-  if (gt->empty()) {
-    *error = path +
-             ": cannot read the ground-truth loop matrix (an image, "
-             "e.g. BMP or PNG, is expected)";
+  // An N x N matrix (checked below): a header declaring more than that or
+  // the usual image bound is refused unread.
+  const int64_t n = static_cast<int64_t>(num_images);
+  if (!ReadGrayImage(path, 1, gt, error,
+                     std::max<int64_t>(kMaxImagePixels, n * n))) {
+    *error += " (the ground-truth loop matrix: an image of " +
+              std::to_string(n) + " x " + std::to_string(n) +
+              " pixels, e.g. BMP or PNG, is expected)";
     return false;
   }
   if (gt->rows != static_cast<int>(num_images) ||
@@ -176,7 +176,13 @@ int RunLoopsCommand(const std::vector<std::string>& args) {
         "verification stereo_pnp needs stereo keyframes; slam loops "
         "reads monocular images (use fundamental or none)");
 
-  // Inputs first (all checked before any work or output).
+  // Outputs and inputs first (all checked before any work). The plot
+  // folder made here is removed again if the command fails
+  // (CreateOutputFolder).
+  if (!FLAGS_report.empty() && !CheckOutputFile(FLAGS_report, &error))
+    return fail("--report " + error);
+  if (!FLAGS_plot.empty() && !CreateOutputFolder(FLAGS_plot, &error))
+    return fail("--plot " + error);
   std::vector<std::string> paths;
   if (!ListImages(FLAGS_images, &paths, &error)) return fail(error);
   cv::Mat gt;
@@ -327,9 +333,6 @@ int RunLoopsCommand(const std::vector<std::string>& args) {
 
   // Outputs.
   if (!FLAGS_plot.empty()) {
-    std::error_code ec;
-    std::filesystem::create_directories(FLAGS_plot, ec);
-    if (ec) return fail(FLAGS_plot + ": cannot create: " + ec.message());
     if (!gt.empty()) {
       plot::Axes axes;
       axes.title = "Loop detection: precision-recall over the threshold";

@@ -24,6 +24,7 @@
 #include "apps/visual/stereo_run_config.h"
 #include "apps/visual/visual_commands.h"
 #include "apps/visual/visual_run_outputs.h"
+#include "datasets/atomic_file.h"
 #include "datasets/kitti_sequence_io.h"
 #include "datasets/trajectory_io.h"
 #include "frontends/stereo/stereo_source.h"
@@ -104,6 +105,18 @@ int RunStereo(const StereoRunConfig& config) {
     return 1;
   }
   info.eval.association = ChooseAssociation(false, false);
+
+  // Outputs that cannot be written fail before the work. The output folder
+  // is made now and removed again if the run fails or is stopped
+  // (datasets/atomic_file.h); the report may go into it.
+  if (!CreateOutputFolder(config.output_dir, &error)) {
+    std::cerr << "run: " << error << "\n";
+    return 1;
+  }
+  if (!FLAGS_report.empty() && !CheckOutputFile(FLAGS_report, &error)) {
+    std::cerr << "run: --report " << error << "\n";
+    return 1;
+  }
 
   // The first pair fixes the image size (checked against the calibration).
   StereoSequenceSource source(&sequence, order, stamps, config.features);

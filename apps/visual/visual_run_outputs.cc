@@ -116,6 +116,15 @@ void ReportStatistics(const VisualRunInfo& info, const VisualSlamResult& result,
       s.local_bundle_adjustments,
       s.global_ba_initial_chi2 > 0 ? s.final_ba_ms : 0.0,
       s.global_ba_initial_chi2, s.global_ba_final_chi2);
+  if (s.lost_frames > 0) {
+    // Their poses are guesses (the motion model, or the origin before the
+    // map started).
+    std::fprintf(stderr,
+                 "run: warning: %d of %d frames lost (no pose from their "
+                 "images: too few features or matches; blank, uniform or "
+                 "noise images?)\n",
+                 s.lost_frames, s.frames);
+  }
   std::printf("run: per frame (ms)   median     p95\n");
   const std::pair<const char*, const std::vector<double>*> stages[] = {
       {"features", &features},
@@ -185,7 +194,21 @@ int WriteVisualRun(const VisualRunInfo& info, const VisualSlam& slam,
 
   JsonObject report;
   ReportStatistics(info, result, &report);
-  if (!info.ground_truth.empty()) {
+  // An evaluation that cannot be computed (one frame: no pose pair) is
+  // reported as such; the run itself succeeded.
+  EvalResult check;
+  std::string why;
+  const bool evaluate =
+      !info.ground_truth.empty() &&
+      EvaluateTrajectories(info.ground_truth, trajectory, info.eval, &check,
+                           &why);
+  if (!info.ground_truth.empty() && !evaluate) {
+    std::printf("run: evaluation not computed: %s\n", why.c_str());
+    JsonObject evaluation;
+    evaluation.Add("computed", false).Add("reason", why);
+    report.Add("evaluation", evaluation);
+  }
+  if (evaluate) {
     EvalResult eval;
     EvalLabels labels;
     labels.ref_name = "ground truth";
@@ -233,7 +256,7 @@ int WriteVisualRun(const VisualRunInfo& info, const VisualSlam& slam,
   std::printf("run: wrote %s, %s, %s, %s, %s, %s%s (%.2f s)\n",
               kitti_path.c_str(), tum_path.c_str(), graph_path.c_str(),
               ply_path.c_str(), csv_path.c_str(), map_path.c_str(),
-              info.ground_truth.empty() ? "" : (", " + plot_dir + "/").c_str(),
+              !evaluate ? "" : (", " + plot_dir + "/").c_str(),
               std::chrono::duration<double>(std::chrono::steady_clock::now() -
                                             info.start)
                   .count());
@@ -250,11 +273,11 @@ std::string GroundTruthPathOf(const std::string& configured,
 int RunVisualSlamAndWrite(VisualSlamConfig config,
                           const VisualFrameSource& source,
                           const VisualRunInfo& info) {
-  std::error_code ec;
-  fs::create_directories(info.output_dir, ec);
-  if (ec) {
-    std::cerr << "run: " << info.output_dir
-              << ": cannot create directory: " << ec.message() << "\n";
+  // Made now (the stereo command made it before its checks already) and
+  // removed again if the run fails or is stopped (datasets/atomic_file.h).
+  std::string folder_error;
+  if (!CreateOutputFolder(info.output_dir, &folder_error)) {
+    std::cerr << "run: " << folder_error << "\n";
     return 1;
   }
   if (!config.loops.vocabulary.empty()) {

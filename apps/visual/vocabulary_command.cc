@@ -17,6 +17,7 @@
 
 #include "apps/visual/image_features.h"
 #include "apps/visual/visual_commands.h"
+#include "datasets/atomic_file.h"
 #include "frontends/bow/vocabulary.h"
 
 DECLARE_string(o);
@@ -43,6 +44,11 @@ int RunVocabularyCommand(const std::vector<std::string>& args) {
     return 2;
   }
   std::string error;
+  // Everything that can be checked is checked before the work.
+  if (!CheckOutputFile(FLAGS_o, &error)) {
+    std::fprintf(stderr, "slam vocabulary: -o %s\n", error.c_str());
+    return 1;
+  }
   bow::Vocabulary vocabulary;
   const auto start = Clock::now();
   if (!FLAGS_voc.empty()) {
@@ -64,10 +70,22 @@ int RunVocabularyCommand(const std::vector<std::string>& args) {
                    "slam vocabulary: --images DIR [DIR...] is required\n");
       return 2;
     }
-    if (FLAGS_orb_features < 10 || FLAGS_max_descriptors < 0) {
+    // The bound of the stereo pipeline's features.max_features and of
+    // loops.orb_features.
+    if (FLAGS_orb_features < 10 || FLAGS_orb_features > 100000 ||
+        FLAGS_max_descriptors < 0) {
       std::fprintf(stderr,
-                   "slam vocabulary: --orb_features must be >= 10 and "
-                   "--max_descriptors >= 0\n");
+                   "slam vocabulary: --orb_features must be in [10, 100000] "
+                   "and --max_descriptors >= 0\n");
+      return 2;
+    }
+    bow::VocabularyTrainingOptions options;
+    options.k = FLAGS_k;
+    options.levels = FLAGS_levels;
+    options.max_descriptors = FLAGS_max_descriptors;
+    if (!bow::Vocabulary::CheckOptions(options, &error)) {
+      std::fprintf(stderr, "slam vocabulary: --k/--levels: %s\n",
+                   error.c_str());
       return 2;
     }
     std::vector<std::string> paths;
@@ -86,10 +104,13 @@ int RunVocabularyCommand(const std::vector<std::string>& args) {
     }
     size_t count = 0;
     const std::vector<cv::Mat> descriptors = DescriptorsOf(features, &count);
-    bow::VocabularyTrainingOptions options;
-    options.k = FLAGS_k;
-    options.levels = FLAGS_levels;
-    options.max_descriptors = FLAGS_max_descriptors;
+    if (count == 0) {
+      std::fprintf(stderr,
+                   "slam vocabulary: no ORB feature in any of the %zu images "
+                   "(blank, uniform or noise images?): nothing to train on\n",
+                   paths.size());
+      return 1;
+    }
     const auto train_start = Clock::now();
     if (!vocabulary.Train(descriptors, options, &error)) {
       std::fprintf(stderr, "slam vocabulary: %s\n", error.c_str());

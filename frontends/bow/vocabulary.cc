@@ -7,6 +7,8 @@
 #include <random>
 #include <sstream>
 
+#include <zlib.h>
+
 #include <opencv2/core/persistence.hpp>
 
 #include "datasets/atomic_file.h"
@@ -23,6 +25,67 @@ constexpr int kMaxLevels = 16;
 // No vocabulary this project reads or writes has more nodes (DBoW2's
 // largest published ORB vocabulary, k=10 L=6, has about 1.1 million).
 constexpr uint64_t kMaxNodes = uint64_t{1} << 26;
+// The largest binary file: kMaxNodes nodes.
+constexpr size_t kMaxBinaryBytes = kHeaderBytes + kMaxNodes * kNodeBytes;
+// The largest DBoW2 YAML text read (after decompression): about 220 bytes a
+// node (32 descriptor bytes as decimals, ids, weight) plus the word list,
+// so room for DBoW2's k = 10, L = 6 ORB vocabulary of 1.1 million nodes;
+// a gzip bomb stops here, while it is decompressed.
+constexpr size_t kMaxYamlBytes = size_t{384} << 20;
+
+// The text of a DBoW2 YAML file, gunzipped piece by piece when it starts
+// with the gzip magic (one or more members), at most kMaxYamlBytes.
+bool ReadYamlText(const std::string& path, std::string* text,
+                  std::string* error) {
+  std::string data;
+  if (!text::ReadWholeFile(path, &data, error, kMaxYamlBytes)) return false;
+  if (data.size() < 2 || static_cast<uint8_t>(data[0]) != 0x1f ||
+      static_cast<uint8_t>(data[1]) != 0x8b) {
+    *text = std::move(data);
+    return true;
+  }
+  text->clear();
+  z_stream z{};
+  if (inflateInit2(&z, 15 + 16) != Z_OK) {
+    *error = path + ": cannot start gzip decompression";
+    return false;
+  }
+  z.next_in = reinterpret_cast<Bytef*>(data.data());
+  z.avail_in = static_cast<uInt>(data.size());  // <= kMaxYamlBytes.
+  std::vector<char> out(size_t{1} << 20);
+  int status = Z_OK;
+  while (true) {
+    z.next_out = reinterpret_cast<Bytef*>(out.data());
+    z.avail_out = static_cast<uInt>(out.size());
+    status = inflate(&z, Z_NO_FLUSH);
+    const size_t got = out.size() - z.avail_out;
+    if (got > kMaxYamlBytes - text->size()) {
+      inflateEnd(&z);
+      text->clear();
+      *error = path + ": decompresses to more than " +
+               std::to_string(kMaxYamlBytes) +
+               " bytes (no vocabulary is that large: a gzip bomb?)";
+      return false;
+    }
+    text->append(out.data(), got);
+    if (status == Z_STREAM_END) {
+      // Another gzip member may follow (as `cat a.gz b.gz` makes).
+      if (z.avail_in >= 2 && z.next_in[0] == 0x1f && z.next_in[1] == 0x8b) {
+        inflateReset(&z);
+        continue;
+      }
+      break;
+    }
+    if (status != Z_OK) break;  // Z_BUF_ERROR: truncated.
+  }
+  inflateEnd(&z);
+  if (status != Z_STREAM_END) {
+    text->clear();
+    *error = path + ": corrupt or truncated gzip data";
+    return false;
+  }
+  return true;
+}
 
 // The most nodes a tree with k branches and L levels can have (saturating).
 uint64_t MaxNodes(int k, int levels) {
@@ -193,15 +256,21 @@ double ScoreL1(const BowVector& a, const BowVector& b) {
   return score;
 }
 
-bool Vocabulary::Train(const std::vector<cv::Mat>& image_descriptors,
-                       const VocabularyTrainingOptions& options,
-                       std::string* error) {
+bool Vocabulary::CheckOptions(const VocabularyTrainingOptions& options,
+                              std::string* error) {
   if (!CheckShape(options.k, options.levels, 2, "vocabulary training", error))
     return false;
   if (options.max_iterations < 1 || options.restarts < 1) {
     *error = "vocabulary training: max_iterations and restarts must be >= 1";
     return false;
   }
+  return true;
+}
+
+bool Vocabulary::Train(const std::vector<cv::Mat>& image_descriptors,
+                       const VocabularyTrainingOptions& options,
+                       std::string* error) {
+  if (!CheckOptions(options, error)) return false;
   std::vector<const uint8_t*> all;
   std::vector<int> image_of;
   for (size_t i = 0; i < image_descriptors.size(); ++i) {
@@ -516,8 +585,12 @@ bool Vocabulary::ParseBinary(std::string_view bytes, const std::string& where,
 }
 
 bool Vocabulary::LoadDbow2Yaml(const std::string& path, std::string* error) {
+  std::string yaml;
+  if (!ReadYamlText(path, &yaml, error)) return false;
   try {
-    cv::FileStorage fs(path, cv::FileStorage::READ);
+    cv::FileStorage fs(yaml, cv::FileStorage::READ | cv::FileStorage::MEMORY |
+                                 cv::FileStorage::FORMAT_YAML);
+    yaml = std::string();  // Parsed: the text is not needed any more.
     if (!fs.isOpened()) {
       *error = path + ": cannot open as an OpenCV YAML file";
       return false;
@@ -648,7 +721,7 @@ bool Vocabulary::Load(const std::string& path, std::string* error) {
     return LoadDbow2Yaml(path, error);
   }
   std::string bytes;
-  if (!text::ReadWholeFile(path, &bytes, error)) return false;
+  if (!text::ReadWholeFile(path, &bytes, error, kMaxBinaryBytes)) return false;
   return ParseBinary(bytes, path, error);
 }
 

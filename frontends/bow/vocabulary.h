@@ -66,6 +66,11 @@ class Vocabulary {
   // descriptor type or invalid options.
   bool Train(const std::vector<cv::Mat>& image_descriptors,
              const VocabularyTrainingOptions& options, std::string* error);
+  // The checks Train makes of its options (k in [2, 256], levels in
+  // [1, 16], iterations and restarts >= 1), for callers that validate
+  // before the work.
+  static bool CheckOptions(const VocabularyTrainingOptions& options,
+                           std::string* error);
 
   // Loads a binary vocabulary of this project or a DBoW2 YAML one (chosen by
   // the file's first bytes / name). Errors name the file and the problem.

@@ -86,6 +86,8 @@ class RgbdFeatureExtractor {
       const std::vector<cv::KeyPoint>& keypoints) const;
 
   const StereoCalibration& calibration() const { return calibration_; }
+  // The smallest image side the ORB pyramid can take.
+  int MinImageSide() const { return orb_.MinImageSide(); }
 
  private:
   // The depth at a pixel (0: none or a discontinuity, step 3).

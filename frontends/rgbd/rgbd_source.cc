@@ -5,6 +5,8 @@
 
 #include <opencv2/imgcodecs.hpp>
 
+#include "frontends/image_io.h"
+
 namespace slam {
 namespace {
 
@@ -16,13 +18,6 @@ std::string SizeText(const cv::Mat& m) {
   return std::to_string(m.cols) + "x" + std::to_string(m.rows);
 }
 
-cv::Mat ReadImage(const std::string& path, int flags) {
-  try {
-    return cv::imread(path, flags);
-  } catch (const cv::Exception&) {
-    return cv::Mat();
-  }
-}
 
 }  // namespace
 
@@ -70,11 +65,11 @@ bool RgbdSequenceSource::Load(size_t k, VisualImages* images,
   images->index = static_cast<int64_t>(k);
   images->stamp = f.rgb.stamp;
   images->right.release();
-  images->left = ReadImage(f.rgb.path, cv::IMREAD_GRAYSCALE);
-  if (images->left.empty()) {
+  std::string image_error;
+  if (!ReadGrayImage(f.rgb.path, extractor_.MinImageSide(), &images->left,
+                     &image_error)) {
     *error = Where(sequence_->rgb_list, f.rgb) +
-             "cannot read the colour image (missing, unreadable or not an "
-             "image format OpenCV decodes)";
+             "cannot read the colour image: " + image_error;
     return false;
   }
   if (width_ > 0 &&
@@ -84,12 +79,11 @@ bool RgbdSequenceSource::Load(size_t k, VisualImages* images,
              std::to_string(height_);
     return false;
   }
-  const cv::Mat raw = ReadImage(f.depth.path, cv::IMREAD_UNCHANGED);
+  cv::Mat raw;
   const std::string where = Where(sequence_->depth_list, f.depth);
-  if (raw.empty()) {
-    *error = where +
-             "cannot read the depth image (missing, unreadable or not an "
-             "image format OpenCV decodes)";
+  if (!ReadImageChecked(f.depth.path, cv::IMREAD_UNCHANGED, 1, &raw,
+                        &image_error)) {
+    *error = where + "cannot read the depth image: " + image_error;
     return false;
   }
   if (raw.type() != CV_16UC1) {

@@ -10,8 +10,13 @@
 
 #include <opencv2/core/hal/hal.hpp>
 
+#include "frontends/image_io.h"
+
 namespace slam {
 namespace {
+
+// Border (pixels) of the image without keypoints, on every pyramid level.
+constexpr int kOrbEdgeThreshold = 19;
 
 using stereo::Hamming;
 
@@ -152,9 +157,14 @@ StereoFeatureExtractor::StereoFeatureExtractor(
   // Detect more corners than kept: the bucketing below chooses among them.
   orb_ = cv::ORB::create(2 * config.max_features,
                          static_cast<float>(config.scale_factor), config.levels,
-                         /*edgeThreshold=*/19,
+                         kOrbEdgeThreshold,
                          /*firstLevel=*/0, /*WTA_K=*/2, cv::ORB::HARRIS_SCORE,
                          /*patchSize=*/31, config.fast_threshold);
+}
+
+int StereoFeatureExtractor::MinImageSide() const {
+  return OrbMinImageSide(config_.levels, config_.scale_factor,
+                         kOrbEdgeThreshold);
 }
 
 void StereoFeatureExtractor::DetectAndDescribe(

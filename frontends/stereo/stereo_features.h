@@ -90,6 +90,9 @@ class StereoFeatureExtractor {
                    std::vector<double>* u_right) const;
 
   const StereoFeatureConfig& config() const { return config_; }
+  // The smallest image side the ORB pyramid can take (OrbMinImageSide of
+  // frontends/image_io.h; 39 pixels with the defaults).
+  int MinImageSide() const;
 
  private:
   StereoFeatureConfig config_;

@@ -1,28 +1,28 @@
 #include "frontends/stereo/stereo_images.h"
 
-#include <opencv2/imgcodecs.hpp>
+#include "datasets/text_util.h"
+#include "frontends/image_io.h"
 
 namespace slam {
+namespace {
+
+std::string Number(double v) {
+  std::string out;
+  text::AppendDouble(v, &out);
+  return out;
+}
+
+}  // namespace
 
 bool LoadStereoImages(const KittiSequence& sequence, size_t k,
                       int expected_width, int expected_height,
-                      StereoImages* images, std::string* error) {
+                      StereoImages* images, std::string* error, int min_side) {
   const std::string& left_path = sequence.left_images[k];
   const std::string& right_path = sequence.right_images[k];
   images->index = static_cast<int64_t>(k);
   images->stamp = sequence.stamps[k];
-  images->left = cv::imread(left_path, cv::IMREAD_GRAYSCALE);
-  if (images->left.empty()) {
-    *error = left_path +
-             ": cannot read the image (missing, unreadable or "
-             "not an image format OpenCV decodes)";
-    return false;
-  }
-  images->right = cv::imread(right_path, cv::IMREAD_GRAYSCALE);
-  if (images->right.empty()) {
-    *error = right_path +
-             ": cannot read the image (missing, unreadable or "
-             "not an image format OpenCV decodes)";
+  if (!ReadGrayImage(left_path, min_side, &images->left, error) ||
+      !ReadGrayImage(right_path, min_side, &images->right, error)) {
     return false;
   }
   const cv::Size size = images->left.size();
@@ -42,6 +42,15 @@ bool LoadStereoImages(const KittiSequence& sequence, size_t k,
     return false;
   }
   const StereoCalibration& c = sequence.calibration;
+  // A field of view between about 0.6 and 169 degrees across the width.
+  if (c.fx < 0.05 * size.width || c.fx > 100.0 * size.width) {
+    *error = left_path + ": the image is " + std::to_string(size.width) +
+             " pixels wide but the focal length fx = " + Number(c.fx) + " of " +
+             sequence.calibration_path +
+             " is outside [0.05, 100] times that: the calibration is not "
+             "for these images";
+    return false;
+  }
   if (c.cx < 0.25 * size.width || c.cx > 0.75 * size.width ||
       c.cy < 0.25 * size.height || c.cy > 0.75 * size.height) {
     *error = left_path + ": the image is " + std::to_string(size.width) + "x" +

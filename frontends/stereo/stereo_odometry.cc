@@ -565,6 +565,11 @@ StereoFrameResult StereoOdometry::AddFrame(const StereoFeatureFrame& frame) {
       result.keyframe = true;
       result.initialized = true;
       frames_since_keyframe_ = 0;
+    } else {
+      // No pose from the images (blank, uniform or noise images, or a
+      // calibration that does not fit them): lost, not silently at rest.
+      result.lost = true;
+      ++stats_.lost_frames;
     }
     frames_.push_back(record);
     result.tracking_ms = stereo::MillisecondsSince(start);

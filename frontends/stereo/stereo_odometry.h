@@ -123,7 +123,9 @@ struct StereoOdometryConfig {
   double keyframe_rotation = 0.17;  // rad (about 10 deg).
   int keyframe_min_frames = 2;
   int keyframe_max_frames = 10;
-  int min_initial_points = 50;  // Stereo points to start the map.
+  // Stereo points to start the map; frames before it stay at the origin
+  // and count as lost.
+  int min_initial_points = 50;
   // Map point culling.
   int min_point_observations = 2;
   int cull_after_keyframes = 2;

@@ -20,7 +20,8 @@ bool StereoSequenceSource::Open(std::string* error) {
     *error = sequence_->dir + ": no frames to process";
     return false;
   }
-  if (!LoadStereoImages(*sequence_, order_[0], 0, 0, &first_, error)) {
+  if (!LoadStereoImages(*sequence_, order_[0], 0, 0, &first_, error,
+                        extractor_.MinImageSide())) {
     return false;
   }
   width_ = first_.left.cols;
@@ -35,7 +36,7 @@ bool StereoSequenceSource::Load(size_t k, VisualImages* images,
     pair = std::move(first_);
     first_ = StereoImages();
   } else if (!LoadStereoImages(*sequence_, order_[k], width_, height_, &pair,
-                               error)) {
+                               error, extractor_.MinImageSide())) {
     return false;
   }
   images->index = static_cast<int64_t>(k);

@@ -1,5 +1,6 @@
 #include "frontends/visual/visual_slam.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <future>
@@ -15,6 +16,12 @@ double SecondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
+// A run fails when none of its first frames (this many, or all when fewer)
+// could start the map: nothing can be tracked (blank, uniform or noise
+// images, or a calibration that does not fit them), so there is no point
+// in decoding the rest (the user is told at once, not after the last frame).
+constexpr size_t kFramesToStartTheMap = 50;
+
 }  // namespace
 
 VisualSlam::VisualSlam(const VisualSlamConfig& config,
@@ -29,6 +36,14 @@ bool VisualSlam::Run(const VisualSlamCallbacks& callbacks,
                      VisualSlamResult* result, std::string* error) {
   *result = VisualSlamResult();
   const size_t frames = source_->NumFrames();
+  // Inputs first: a vocabulary file is read before any frame (a missing
+  // one used to be found after the last frame).
+  bow::Vocabulary vocabulary;
+  if (config_.loop_closure.enabled && !config_.loops.vocabulary.empty()) {
+    const auto start = Clock::now();
+    if (!vocabulary.Load(config_.loops.vocabulary, error)) return false;
+    result->vocabulary_seconds = SecondsSince(start);
+  }
   // Steps 1-2. Decoding the next frame overlaps with the work on this one.
   {
     VisualImages images, next_images;
@@ -64,10 +79,21 @@ bool VisualSlam::Run(const VisualSlamCallbacks& callbacks,
       if (callbacks.progress) {
         callbacks.progress(static_cast<double>(k + 1) / frames);
       }
+      if (odometry_->NumKeyframes() == 0 &&
+          k + 1 == std::min(frames, kFramesToStartTheMap)) {
+        *error = "frames 0-" + std::to_string(k) +
+                 ": none has the " +
+                 std::to_string(config_.odometry.min_initial_points) +
+                 " points with depth needed to start the map (blank, "
+                 "uniform or noise images, or a calibration that does not "
+                 "fit them): nothing can be tracked";
+        return false;
+      }
     }
   }
   // Steps 3-4.
-  if (config_.loop_closure.enabled && !CloseLoops(callbacks, result, error)) {
+  if (config_.loop_closure.enabled &&
+      !CloseLoops(callbacks, &vocabulary, result, error)) {
     return false;
   }
   // Steps 5-6.
@@ -79,14 +105,14 @@ bool VisualSlam::Run(const VisualSlamCallbacks& callbacks,
 }
 
 bool VisualSlam::CloseLoops(const VisualSlamCallbacks& callbacks,
-                            VisualSlamResult* result, std::string* error) {
+                            bow::Vocabulary* loaded, VisualSlamResult* result,
+                            std::string* error) {
   const auto loop_start = Clock::now();
+  const double load_seconds = result->vocabulary_seconds;  // Read in Run.
   const LoopsConfig& loops = config_.loops;
-  bow::Vocabulary vocabulary;
+  bow::Vocabulary& vocabulary = *loaded;
   result->vocabulary_source = loops.vocabulary;
-  if (!loops.vocabulary.empty()) {
-    if (!vocabulary.Load(loops.vocabulary, error)) return false;
-  } else {
+  if (loops.vocabulary.empty()) {
     std::vector<cv::Mat> descriptors;
     size_t count = 0;
     for (size_t k = 0; k < odometry_->NumKeyframes(); ++k) {
@@ -99,7 +125,7 @@ bool VisualSlam::CloseLoops(const VisualSlamCallbacks& callbacks,
     }
     result->vocabulary_source = "trained on the keyframes";
   }
-  result->vocabulary_seconds = SecondsSince(loop_start);
+  result->vocabulary_seconds += SecondsSince(loop_start);
   char line[512];
   std::snprintf(
       line, sizeof(line), "vocabulary %s: k = %d, L = %d, %zu words (%.2f s)",
@@ -113,7 +139,7 @@ bool VisualSlam::CloseLoops(const VisualSlamCallbacks& callbacks,
     *error = "loop closing: " + *error;
     return false;
   }
-  result->loop_seconds = SecondsSince(loop_start);
+  result->loop_seconds = SecondsSince(loop_start) + load_seconds;
   if (callbacks.log) {
     std::istringstream lines(loop_log.str());
     for (std::string text; std::getline(lines, text);) callbacks.log(text);

@@ -88,7 +88,9 @@ class VisualSlam {
   VisualSlam(const VisualSlamConfig& config, const VisualFrameSource* source);
 
   // Steps 1-6 over every frame of the source. False with the error of a
-  // frame that cannot be decoded, a vocabulary that cannot be read or
+  // vocabulary that cannot be read (before any frame), a frame that cannot
+  // be decoded, first frames of which none starts the map (after 50 frames,
+  // or all when fewer: nothing can be tracked), a vocabulary that cannot be
   // trained, or the loop closing (nothing of the run is then meaningful).
   bool Run(const VisualSlamCallbacks& callbacks, VisualSlamResult* result,
            std::string* error);
@@ -97,8 +99,10 @@ class VisualSlam {
   const StereoOdometry& odometry() const { return *odometry_; }
 
  private:
+  // With `vocabulary` loaded (loops.vocabulary) or to be trained.
   bool CloseLoops(const VisualSlamCallbacks& callbacks,
-                  VisualSlamResult* result, std::string* error);
+                  bow::Vocabulary* vocabulary, VisualSlamResult* result,
+                  std::string* error);
 
   VisualSlamConfig config_;
   const VisualFrameSource* source_;
