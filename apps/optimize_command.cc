@@ -147,7 +147,7 @@ int RunOptimizeCommand(const std::vector<std::string>& args) {
   // Fail before any work on outputs that cannot be written and on a ground
   // truth that cannot be read: a failed run leaves no output behind.
   for (const std::string& out : {FLAGS_o, FLAGS_report}) {
-    if (!out.empty() && !CheckOutputPath(out, &error)) {
+    if (!out.empty() && !CheckOutputFile(out, &error)) {
       std::cerr << "slam optimize: " << error << "\n";
       return 1;
     }

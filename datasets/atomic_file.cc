@@ -235,20 +235,6 @@ bool ResolveOutput(const std::string& path, std::string* target,
 
 }  // namespace
 
-bool CheckOutputPath(const std::string& path, std::string* error) {
-  const std::filesystem::path parent =
-      std::filesystem::absolute(path).parent_path();
-  if (!std::filesystem::is_directory(parent)) {
-    *error = path + ": the directory " + parent.string() + " does not exist";
-    return false;
-  }
-  if (std::filesystem::is_directory(path)) {
-    *error = path + ": is a directory";
-    return false;
-  }
-  return true;
-}
-
 bool WriteFileAtomically(const std::string& path, std::string_view contents,
                          std::string* error) {
   std::string target;

@@ -42,11 +42,6 @@ namespace slam {
 bool WriteFileAtomically(const std::string& path, std::string_view contents,
                          std::string* error);
 
-// Whether `path` can be an output file, checked before any work: its folder
-// exists and it is not a directory. False with "PATH: the directory DIR does
-// not exist" or "PATH: is a directory".
-bool CheckOutputPath(const std::string& path, std::string* error);
-
 // Checks, before any work, that WriteFileAtomically can write `path`: not a
 // directory, its folder exists, and a file can be created there (a
 // temporary is created and removed). False with "PATH: problem".
