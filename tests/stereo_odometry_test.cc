@@ -178,6 +178,16 @@ TEST(StereoOdometryTest, FarFieldDisparityBiasDoesNotBiasTheScale) {
   EXPECT_LT(worst, 0.01);
 }
 
+// A car-like path at 10 Hz (1.2 m per frame, as on KITTI 06), 0.5 px noise.
+StereoSimulationConfig CarLikeWorld() {
+  StereoSimulationConfig sc;
+  sc.frames = 40;
+  sc.step = 1.2;
+  sc.points_per_metre = 20.0;
+  sc.pixel_sigma = 0.5;
+  return sc;
+}
+
 TEST(StereoOdometryTest, KeyframesByNeed) {
   // A car-like path at 10 Hz (1.2 m per frame, as on KITTI 06): the
   // tracking keeps most of the last keyframe's points from frame to frame,
@@ -186,11 +196,7 @@ TEST(StereoOdometryTest, KeyframesByNeed) {
   // points), and the path is recovered to 0.5 % of its length. (A keyframe
   // at every frame does better here, 0.06 m against 0.16 m rmse: the
   // frames between keyframes keep their tracking poses.)
-  StereoSimulationConfig sc;
-  sc.frames = 40;
-  sc.step = 1.2;
-  sc.points_per_metre = 20.0;
-  sc.pixel_sigma = 0.5;
+  const StereoSimulationConfig sc = CarLikeWorld();
   const StereoSimulation sim = SimulateStereo(sc);
   StereoOdometry odometry = MakeOdometry(sc);
   const RunResult r = RunOdometry(sim, sc, &odometry);
@@ -199,6 +205,51 @@ TEST(StereoOdometryTest, KeyframesByNeed) {
   EXPECT_LT(r.stats.keyframes, sc.frames / 2);
   EXPECT_EQ(r.stats.lost_frames, 0);
   EXPECT_LT(r.rmse, 0.005 * PathLength(sim.poses));
+}
+
+// RMS over consecutive frames of the error of the relative translation
+// (the one-frame RPE).
+double OneFrameRpe(const Trajectory& estimate, const Trajectory& truth) {
+  double sse = 0.0;
+  for (size_t k = 1; k < truth.size(); ++k) {
+    const Pose3 t = truth[k - 1].pose.Inverse() * truth[k].pose;
+    const Pose3 e = estimate[k - 1].pose.Inverse() * estimate[k].pose;
+    sse += (t.Inverse() * e).t.squaredNorm();
+  }
+  return std::sqrt(sse / (truth.size() - 1));
+}
+
+TEST(StereoOdometryTest, RefineWithStructureHelpsTheFramesBetweenKeyframes) {
+  // The frames that do not become keyframes are tracked against points that
+  // often only one keyframe has seen, their depth from one stereo pair (the
+  // far ones a few pixels of disparity). Held exact in the pose-only
+  // refinement, they fail the chi2 test a few frames later (inliers fall
+  // from ~630 to ~230 of ~800 correct matches here) and bias the pose: the
+  // one-frame RPE is 0.031 m against 0.008 m with a keyframe at every frame.
+  // With refine_with_structure (the matched points free, held by their
+  // keyframe observations) nearly every match stays an inlier and the RPE
+  // is less than half. (Off by default: on the KITTI 06 excerpt it did not
+  // help, see the README.)
+  const StereoSimulationConfig sc = CarLikeWorld();
+  const StereoSimulation sim = SimulateStereo(sc);
+  auto rpe = [&](bool refine, int* keyframes) {
+    StereoOdometryConfig config;
+    config.refine_with_structure = refine;
+    StereoOdometry odometry(config, sc.calibration, sc.width, sc.height);
+    const RunResult r = RunOdometry(sim, sc, &odometry);
+    *keyframes = r.stats.keyframes;
+    EXPECT_EQ(r.stats.lost_frames, 0);
+    return OneFrameRpe(r.estimate, sim.poses);
+  };
+  int with_keyframes = 0, without_keyframes = 0;
+  const double with = rpe(true, &with_keyframes);
+  const double without = rpe(false, &without_keyframes);
+  std::printf(
+      "one-frame RPE with refine_with_structure %.4f m (%d keyframes), "
+      "without %.4f m (%d keyframes)\n",
+      with, with_keyframes, without, without_keyframes);
+  EXPECT_LT(with_keyframes, sc.frames / 2);
+  EXPECT_LT(with, 0.6 * without);
 }
 
 TEST(StereoOdometryTest, StartsTheMapAtTheFirstFrameWithEnoughStereoPoints) {

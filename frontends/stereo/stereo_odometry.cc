@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <memory>
 
 #include <opencv2/calib3d.hpp>
@@ -308,12 +309,33 @@ int StereoOdometry::OptimizePose(const StereoFeatureFrame& frame,
         !config_.far_points_wait || points_[(*matches)[k].point].confirmed;
   }
   const ceres::Manifold* manifold = graph_.ManifoldFor(NodeKind::kPose3);
+  // With refine_with_structure, copies of the observing keyframes' poses
+  // (held fixed); the map itself is not changed.
+  std::map<int64_t, std::vector<double>> keyframe_values;
+  const std::vector<bool> free_point(matches->size(),
+                                     config_.refine_with_structure);
+  // Each free point's keyframe observations: the point must still agree
+  // with them (a wrong match would pull it away).
+  std::vector<std::vector<std::pair<const Factor*, const double*>>> held_by(
+      matches->size());
+  auto chi2_of = [](const Factor& f, const double* camera, const double* point,
+                    double* chi2) {
+    const double* params[2] = {camera, point};
+    double r[3];
+    const bool ok = f.cost->Evaluate(params, r, nullptr);
+    const int n = f.type == FactorType::kStereo ? 3 : 2;
+    *chi2 = 0;
+    for (int i = 0; i < n; ++i) *chi2 += r[i] * r[i];
+    return ok;
+  };
   int inliers = 0;
   for (int round = 0; round < config_.pose_rounds; ++round) {
     ceres::Problem problem(Graph::ProblemOptions());
     std::vector<std::unique_ptr<ceres::LossFunction>> losses;
+    auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
     problem.AddParameterBlock(camera.data(), 7,
                               const_cast<ceres::Manifold*>(manifold));
+    ordering->AddElementToGroup(camera.data(), 1);
     int used = 0;
     for (size_t k = 0; k < factors.size(); ++k) {
       if (!inlier[k] || !informs[k] || factors[k].cost == nullptr) continue;
@@ -321,13 +343,39 @@ int StereoOdometry::OptimizePose(const StereoFeatureFrame& frame,
           new ceres::HuberLoss(std::sqrt(Chi2Threshold(factors[k]))));
       problem.AddResidualBlock(factors[k].cost.get(), losses.back().get(),
                                camera.data(), values[k].data());
-      problem.SetParameterBlockConstant(values[k].data());
+      ordering->AddElementToGroup(values[k].data(), 0);
       ++used;
+      if (!free_point[k]) {
+        problem.SetParameterBlockConstant(values[k].data());
+        continue;
+      }
+      for (const Observation& o : points_[(*matches)[k].point].observations) {
+        const Factor* f = graph_.FindFactor(o.factor);
+        if (f == nullptr || f->cost == nullptr) continue;
+        auto it = keyframe_values.find(o.keyframe);
+        if (it == keyframe_values.end()) {
+          it = keyframe_values
+                   .emplace(o.keyframe,
+                            graph_.FindNode(Pose3Key(o.keyframe))->value)
+                   .first;
+        }
+        problem.AddResidualBlock(f->cost.get(), f->loss.get(),
+                                 it->second.data(), values[k].data());
+        if (round == 0) held_by[k].emplace_back(f, it->second.data());
+        if (!ordering->IsMember(it->second.data())) {
+          ordering->AddElementToGroup(it->second.data(), 1);
+          problem.SetParameterBlockConstant(it->second.data());
+        }
+      }
     }
     if (used < 3) return 0;
+    ceres::Solver::Options options = SolverOptions(
+        config_.pose_iterations,
+        config_.refine_with_structure ? ceres::DENSE_SCHUR : ceres::DENSE_QR);
+    if (config_.refine_with_structure)
+      options.linear_solver_ordering = ordering;
     ceres::Solver::Summary summary;
-    ceres::Solve(SolverOptions(config_.pose_iterations, ceres::DENSE_QR),
-                 &problem, &summary);
+    ceres::Solve(options, &problem, &summary);
     // Classify every match (outliers of earlier rounds may come back).
     inliers = 0;
     for (size_t k = 0; k < factors.size(); ++k) {
@@ -335,13 +383,14 @@ int StereoOdometry::OptimizePose(const StereoFeatureFrame& frame,
         inlier[k] = false;
         continue;
       }
-      const double* params[2] = {camera.data(), values[k].data()};
-      double r[3];
-      const bool ok = factors[k].cost->Evaluate(params, r, nullptr);
-      const int n = factors[k].type == FactorType::kStereo ? 3 : 2;
       double chi2 = 0;
-      for (int i = 0; i < n; ++i) chi2 += r[i] * r[i];
-      inlier[k] = ok && chi2 <= Chi2Threshold(factors[k]);
+      inlier[k] = chi2_of(factors[k], camera.data(), values[k].data(), &chi2) &&
+                  chi2 <= Chi2Threshold(factors[k]);
+      for (const auto& [f, keyframe] : held_by[k]) {
+        inlier[k] = inlier[k] &&
+                    chi2_of(*f, keyframe, values[k].data(), &chi2) &&
+                    chi2 <= Chi2Threshold(*f);
+      }
       inliers += inlier[k] && informs[k];
     }
   }
