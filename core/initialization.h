@@ -12,8 +12,10 @@
 //   kChordal       chordal relaxation (Carlone et al., ICRA 2015): rotations
 //                  first, as an unconstrained linear least-squares problem over
 //                  rotation-matrix entries projected back onto SO(2)/SO(3);
-//                  then translations by linear least squares with the
-//                  rotations held fixed.
+//                  then two Gauss-Newton steps on the rotations alone
+//                  (2D: the wrapped heading errors; 3D: Log of the rotation
+//                  errors), then translations by linear least squares with
+//                  the rotations held fixed.
 #ifndef SLAM_CORE_INITIALIZATION_H_
 #define SLAM_CORE_INITIALIZATION_H_
 

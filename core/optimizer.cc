@@ -165,6 +165,9 @@ bool SetOrdering(const Graph& graph, const std::string& method,
 // times. Fewer rejections (parking-garage 3, MIT 2) LM recovers from in an
 // iteration or two, cheaper than the restart.
 constexpr int kRejectionsBeforeProbe = 4;
+// LM's initial radius after a Gauss-Newton probe that stalled (Ceres'
+// default radius).
+constexpr double kRadiusAfterStall = 1e4;
 
 class FirstStepWatcher : public ceres::IterationCallback {
  public:
@@ -175,22 +178,42 @@ class FirstStepWatcher : public ceres::IterationCallback {
       done_ = true;
       return ceres::SOLVER_CONTINUE;
     }
-    if (!done_ && s.iteration == kRejectionsBeforeProbe) {
+    // The second rejected step equal to the first (same length, same
+    // cost): the damping is still negligible at the problem's scale, and
+    // LM would reject the same Gauss-Newton step until the radius has
+    // shrunk by orders of magnitude (grid worlds with 0.2-0.3 rad heading
+    // noise: four identical rejections).
+    const bool same_step =
+        s.iteration == 2 &&
+        std::abs(s.step_norm - first_step_norm_) <= 1e-2 * first_step_norm_ &&
+        std::abs(s.cost_change - first_cost_change_) <=
+            1e-2 * std::abs(first_cost_change_);
+    if (s.iteration == 1) {
+      first_step_norm_ = s.step_norm;
+      first_cost_change_ = s.cost_change;
+    }
+    if (!done_ && (same_step || s.iteration == kRejectionsBeforeProbe)) {
       rejected_ = true;
+      rejections_ = s.iteration;
       return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
     }
     return ceres::SOLVER_CONTINUE;
   }
   bool first_steps_rejected() const { return rejected_; }
+  int rejections() const { return rejections_; }
 
  private:
   bool done_ = false;  // A step was accepted: LM is under way.
   bool rejected_ = false;
+  int rejections_ = 0;
+  double first_step_norm_ = 0.0;
+  double first_cost_change_ = 0.0;
 };
 
 struct ProbeResult {
   bool converged = false;  // Relative decrease below the tolerance.
   bool improved = false;   // Values kept: their cost is below the start's.
+  bool stalled = false;    // Stopped when the cost rose below the start.
   int iterations = 0;
   double initial_chi2 = 0.0;
   double final_chi2 = 0.0;
@@ -220,13 +243,6 @@ ProbeResult GaussNewtonProbe(ceres::Problem* problem,
     tangent_total += tangent_sizes.back();
     saved.insert(saved.end(), block, block + sizes.back());
   }
-  auto restore = [&]() {
-    size_t k = 0;
-    for (size_t b = 0; b < blocks.size(); ++b) {
-      std::copy(saved.begin() + k, saved.begin() + k + sizes[b], blocks[b]);
-      k += sizes[b];
-    }
-  };
   ceres::Problem::EvaluateOptions evaluate;
   evaluate.parameter_blocks = blocks;
   evaluate.num_threads = 1;
@@ -241,6 +257,23 @@ ProbeResult GaussNewtonProbe(ceres::Problem* problem,
   }
   result.initial_chi2 = CeresCostToChi2(cost);
   const double start_cost = cost;
+  // The lowest-cost values seen (the start's are in `saved`).
+  std::vector<double> best = saved;
+  double best_cost = start_cost;
+  auto copy_in = [&](const std::vector<double>& values) {
+    size_t k = 0;
+    for (size_t b = 0; b < blocks.size(); ++b) {
+      std::copy(values.begin() + k, values.begin() + k + sizes[b], blocks[b]);
+      k += sizes[b];
+    }
+  };
+  auto copy_out = [&](std::vector<double>* values) {
+    size_t k = 0;
+    for (size_t b = 0; b < blocks.size(); ++b) {
+      std::copy(blocks[b], blocks[b] + sizes[b], values->begin() + k);
+      k += sizes[b];
+    }
+  };
   std::vector<double> x_plus;
   Eigen::Index analysed_nonzeros = 0;
   for (int it = 1; it <= max_iterations; ++it) {
@@ -291,16 +324,30 @@ ProbeResult GaussNewtonProbe(ceres::Problem* problem,
       result.converged = true;
       break;
     }
+    if (cost < best_cost) {
+      best_cost = cost;
+      copy_out(&best);
+    } else if (best_cost < start_cost) {
+      // Below the start, then up again: near the optimum of a graph with
+      // large residuals Gauss-Newton's model no longer descends (a grid
+      // world with 0.3 rad heading noise: 2554.655 then five rising steps).
+      // The best values are kept and LM goes on from them.
+      result.stalled = true;
+      break;
+    }
     // Gauss-Newton may overshoot once or twice (Intel: 220 -> 249 -> 215.8);
     // still above the start after that, it is diverging.
     if (it >= 3 && cost >= start_cost) break;
   }
-  if (cost < start_cost) {
+  if (result.converged) {
     result.improved = true;
     result.final_chi2 = CeresCostToChi2(cost);
+  } else if (best_cost < start_cost) {
+    copy_in(best);
+    result.improved = true;
+    result.final_chi2 = CeresCostToChi2(best_cost);
   } else {
-    restore();
-    result.converged = false;
+    copy_in(saved);
   }
   return result;
 }
@@ -531,7 +578,7 @@ OptimizerSummary Optimize(Graph* graph, const OptimizerOptions& options,
     }
     std::ostream* log = options.verbose ? progress : nullptr;
     if (log != nullptr) {
-      *log << "LM rejected its first " << kRejectionsBeforeProbe
+      *log << "LM rejected its first " << watcher.rejections()
            << " steps: plain Gauss-Newton steps\n";
     }
     ProbeResult probe;
@@ -542,11 +589,20 @@ OptimizerSummary Optimize(Graph* graph, const OptimizerOptions& options,
                                options.function_tolerance, log);
     }
     if (log != nullptr) {
-      *log << (probe.converged  ? "Gauss-Newton converged; LM confirms\n"
+      *log << (probe.converged ? "Gauss-Newton converged; LM confirms\n"
+               : probe.stalled
+                   ? "Gauss-Newton stalled; LM goes on from its best values\n"
                : probe.improved ? "Gauss-Newton lowered the cost; LM goes on\n"
                                 : "Gauss-Newton diverged; LM from the start\n");
     }
     summary.gauss_newton_iterations = probe.iterations;
+    // Gauss-Newton steps failed from the values LM resumes at: LM starts
+    // from Ceres' default radius instead of an (almost) Gauss-Newton step,
+    // which it would reject again and again (seven rejections from 1e12).
+    if (probe.stalled) {
+      solver_options.initial_trust_region_radius = std::min(
+          solver_options.initial_trust_region_radius, kRadiusAfterStall);
+    }
     solver_options.callbacks.erase(
         std::remove(solver_options.callbacks.begin(),
                     solver_options.callbacks.end(), &watcher),

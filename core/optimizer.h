@@ -76,11 +76,14 @@ struct OptimizerOptions {
   bool nonmonotonic_steps = false;
   // Pose graphs (no landmarks) under LM: when LM rejects its first 4 steps
   // (the Gauss-Newton step from the initial guess overshoots and LM has
-  // shrunk its radius 1024 times), up to this many plain Gauss-Newton steps
-  // follow, accepted even when the cost rises, as g2o's Gauss-Newton; LM
-  // goes on from their result when its cost is below the start's (confirming
-  // in an iteration when Gauss-Newton converged), else from the untouched
-  // values (Gauss-Newton diverged: still above the start after 3 steps).
+  // shrunk its radius 1024 times), or its first 2 when the second is the
+  // same step (damping negligible at the problem's scale), up to this many
+  // plain Gauss-Newton steps follow, accepted even when the cost rises, as
+  // g2o's Gauss-Newton; LM goes on from their best values when these are
+  // below the start's (confirming in an iteration when Gauss-Newton
+  // converged; from Ceres' default radius when, once below the start, a
+  // step raised the cost), else from the untouched values (Gauss-Newton
+  // diverged: still above the start after 3 steps).
   // LM alone crawls after such a radius collapse: dpgo's Intel from the
   // chordal guess took 91 iterations (Gauss-Newton: 4), M3500 with 0.2 rad
   // rotation noise 29. Other graphs run as before. 0 disables.
