@@ -706,6 +706,11 @@ bool Vocabulary::LoadDbow2Yaml(const std::string& path, std::string* error) {
     nodes_.clear();
     words_.clear();
     return false;
+  } catch (const std::exception& e) {  // OpenCV's parser also throws others.
+    *error = path + ": cannot parse as OpenCV YAML: " + e.what();
+    nodes_.clear();
+    words_.clear();
+    return false;
   }
   return true;
 }
