@@ -115,6 +115,55 @@ def fast_step_rotation(gt, est, max_diff=0.02, fast_deg=3.0):
     return rmse, statistics.median(kept), len(errors)
 
 
+def q_rotate(q, v):
+    x, y, z, _ = q_mul(q_mul(q, (v[0], v[1], v[2], 0.0)), q_conj(q))
+    return (x, y, z)
+
+
+def keyframe_steps(gt, est, timings_csv, max_diff=0.02):
+    """RPE over one frame (translation m, rotation deg; rmse and count) of
+    the steps into a keyframe and of the other steps (timings.csv flags the
+    keyframes): a frame between keyframes keeps its pose relative to its
+    keyframe, so errors of the keyframes' poses show on the steps into
+    them."""
+    keyframes = set()
+    with open(timings_csv) as f:
+        for line in f:
+            fields = line.strip().split(",")
+            if fields and fields[0].isdigit() and fields[7].strip() == "1":
+                keyframes.add(int(fields[0]))
+    stamps = [p[0] for p in gt]
+    matched = []
+    for t, tr, q in est:
+        i = bisect.bisect_left(stamps, t)
+        cands = [j for j in (i - 1, i) if 0 <= j < len(stamps)
+                 and abs(stamps[j] - t) < max_diff]
+        best = min(cands, key=lambda j: abs(stamps[j] - t)) if cands else None
+        matched.append(None if best is None else ((tr, q), gt[best][1:]))
+    groups = {True: ([], []), False: ([], [])}
+    for k in range(1, len(matched)):
+        a, b = matched[k - 1], matched[k]
+        if a is None or b is None:
+            continue
+        rel = []
+        for (ta, qa), (tb, qb) in ((a[0], b[0]), (a[1], b[1])):
+            d = tuple(x - y for x, y in zip(tb, ta))
+            rel.append((q_rotate(q_conj(qa), d), q_mul(q_conj(qa), qb)))
+        (te, qe), (tg, qg) = rel
+        dq = q_mul(q_conj(qg), qe)
+        dt = tuple(x - y for x, y in zip(q_rotate(q_conj(qg), te),
+                                         q_rotate(q_conj(qg), tg)))
+        group = groups[k in keyframes]
+        group[0].append(math.sqrt(sum(x * x for x in dt)))
+        group[1].append(q_angle_deg(dq))
+    out = {}
+    for key, (ts, rs) in groups.items():
+        if ts:
+            out[key] = (math.sqrt(sum(x * x for x in ts) / len(ts)),
+                        math.sqrt(sum(x * x for x in rs) / len(rs)), len(ts))
+    return out
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--datasets", default=os.environ.get(
@@ -171,9 +220,15 @@ def main():
         row["fast_r"] = fast_r
         row["fast_kept"] = "%.2f" % fast_kept
         print("%d fast steps (> 3 deg per frame)" % fast_n, file=sys.stderr)
+        steps = keyframe_steps(read_tum(gt), read_tum(est),
+                               os.path.join(tmp, "out", "timings.csv"))
     markdown, csv_text = run_benchmarks.tables(PEERS + [row, TARGET], COLUMNS)
     print(markdown)
     print(csv_text)
+    for key, name in ((True, "into a keyframe"), (False, "other frames")):
+        if key in steps:
+            print("RPE per frame, steps %s: %.4f m / %.3f deg (%d steps)" %
+                  ((name,) + steps[key]))
 
 
 if __name__ == "__main__":

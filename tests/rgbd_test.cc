@@ -18,9 +18,14 @@
 #include <opencv2/imgproc.hpp>
 
 #include "apps/visual/rgbd_run_config.h"
+#include "core/graph.h"
+#include "core/keys.h"
+#include "core/optimizer.h"
 #include "datasets/tum_rgbd_io.h"
+#include "factors/pose_factors.h"
 #include "frontends/rgbd/rgbd_camera.h"
 #include "frontends/rgbd/rgbd_features.h"
+#include "frontends/stereo/stereo_loop_closing.h"
 #include "frontends/stereo/stereo_simulator.h"
 #include "frontends/visual/visual_slam.h"
 #include "gtest/gtest.h"
@@ -438,6 +443,100 @@ TEST(RgbdRunTest, BadInputFailsWithAMessageAndNoOutputs) {
   }
 }
 
+// The loop closing's pose graph (frontends/stereo/stereo_loop_closing.h,
+// step 2) for a hand-held camera turning in place, as in TUM fr1/rpy: 25
+// keyframes turn out to 1.6 rad and back while moving 5 cm; the odometry
+// errs by 3 % of every turn (5.5 deg after 3.2 rad turned), and a
+// correct loop joins the last keyframe to the first. With a drift model by
+// distance travelled alone, the 25 keyframes are allowed 0.3 deg of
+// rotation drift, the loop's chi2 exceeds the rejection threshold and the
+// loop is lost; with a drift per radian turned it is accepted and corrects
+// the last keyframe.
+struct TurningLoopResult {
+  double loop_chi2 = 0.0;
+  double last_rotation_error = 0.0;  // rad, after the optimization.
+};
+
+TurningLoopResult OptimizeTurningLoop(const StereoLoopClosingConfig& config) {
+  const int n = 25;
+  std::vector<Pose3> truth(n);
+  for (int k = 0; k < n; ++k) {
+    const double s = std::sin(M_PI * k / (n - 1));
+    truth[k] = Pose3(Eigen::Vector3d(0.05 * s, 0.01 * s, 0.0),
+                     Eigen::Quaterniond(
+                         Eigen::AngleAxisd(1.6 * s, Eigen::Vector3d::UnitY())));
+  }
+  Graph graph;
+  Pose3 chained = truth[0];
+  for (int k = 0; k < n; ++k) {
+    if (k > 0) {
+      const Pose3 z = truth[k - 1].Inverse() * truth[k];
+      const Eigen::AngleAxisd turn(z.q);
+      // An error of 3 % of each turn about another axis (the camera's x):
+      // turning out and back does not cancel it.
+      const Pose3 measured(
+          z.t + Eigen::Vector3d(0.0, 0.0, 0.01 * turn.angle()),
+          z.q * Eigen::Quaterniond(Eigen::AngleAxisd(
+                    0.03 * turn.angle(), Eigen::Vector3d::UnitX())));
+      chained = chained * measured;
+      Factor f;
+      std::string error;
+      EXPECT_TRUE(MakeBetweenSE3(Pose3Key(k - 1), Pose3Key(k), measured,
+                                 LoopDriftInformation(config, measured), &f,
+                                 &error))
+          << error;
+      graph.AddNode(Pose3Key(k), Pose3Value(chained));
+      graph.AddFactor(std::move(f));
+    } else {
+      graph.AddNode(Pose3Key(0), Pose3Value(truth[0]));
+      graph.SetFixed(Pose3Key(0), true);
+    }
+  }
+  // The verified loop: the true relative pose, as tight as a PnP on a
+  // hundred points (1 mm, 0.05 deg).
+  Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();
+  covariance.diagonal() << 1e-6, 1e-6, 1e-6, 1e-6, 1e-6, 1e-6;
+  Factor loop;
+  std::string error;
+  EXPECT_TRUE(MakeBetweenSE3(Pose3Key(0), Pose3Key(n - 1),
+                             truth[0].Inverse() * truth[n - 1],
+                             covariance.inverse(), &loop, &error))
+      << error;
+  const FactorId loop_id = graph.AddFactor(std::move(loop));
+  OptimizerOptions options;
+  options.max_iterations = 100;
+  options.verbose = false;
+  Optimize(&graph, options, nullptr);
+  TurningLoopResult result;
+  EXPECT_TRUE(graph.FactorChi2(*graph.FindFactor(loop_id), &result.loop_chi2));
+  const Pose3 last = NodePose3(*graph.FindNode(Pose3Key(n - 1)));
+  result.last_rotation_error =
+      Eigen::AngleAxisd(truth[n - 1].q.conjugate() * last.q).angle();
+  return result;
+}
+
+TEST(RgbdLoopDriftTest, ALoopAfterTurningInPlaceFitsTheDriftPerRadian) {
+  StereoLoopClosingConfig by_distance;  // The stereo defaults.
+  const TurningLoopResult rejected = OptimizeTurningLoop(by_distance);
+  EXPECT_GT(rejected.loop_chi2, by_distance.reject_chi2);
+  StereoLoopClosingConfig per_radian = by_distance;
+  per_radian.drift_rotation_per_rad = 0.1;
+  per_radian.drift_translation_per_rad = 0.1;
+  const TurningLoopResult accepted = OptimizeTurningLoop(per_radian);
+  std::printf(
+      "loop chi2 %.1f by distance, %.2f per radian (last keyframe %.2f deg "
+      "off)\n",
+      rejected.loop_chi2, accepted.loop_chi2,
+      accepted.last_rotation_error * 180.0 / M_PI);
+  EXPECT_LT(accepted.loop_chi2, per_radian.reject_chi2);
+  // The chained odometry ends 5.5 deg off; the loop brings it back.
+  EXPECT_LT(accepted.last_rotation_error, 0.2 * M_PI / 180.0);
+  std::string error;
+  EXPECT_TRUE(ValidateStereoLoopClosingConfig(per_radian, &error)) << error;
+  per_radian.drift_rotation_per_rad = -0.1;
+  EXPECT_FALSE(ValidateStereoLoopClosingConfig(per_radian, &error));
+}
+
 // The report's numbers ("key": value).
 double ReportNumber(const std::string& report, const std::string& key,
                     const std::string& after = "") {
@@ -450,11 +549,10 @@ double ReportNumber(const std::string& report, const std::string& key,
 TEST(RgbdRunTest, TumFr1RpyExcerptEndToEnd) {
   SLAM_REQUIRE_DATASET(DatasetPath("rgbd_tum_fr1_rpy_0-109/rgb.txt"));
   const std::string dir = TempDir();
-  // The shipped config, without the loop closing (it finds no verified loop
-  // on these 110 frames, and training its vocabulary doubles the run time).
-  std::string config = ReadText(testing::ConfigPath("tum_rgbd.yaml"));
-  config.replace(config.find("run:\n"), 5,
-                 "run:\n  loop_closure:\n    enabled: false\n");
+  // The shipped config, loop closing included: the recording turns back to
+  // its first view, and the loop found there corrects the drift of the
+  // turns (ATE 0.043 m without it, worse than a camera that never moves).
+  const std::string config = ReadText(testing::ConfigPath("tum_rgbd.yaml"));
   WriteText(dir + "/run.yaml", config);
   ASSERT_EQ(RunSlam("run --config " + dir + "/run.yaml --datasets " +
                         testing::DatasetsDir() + " --output_dir " + dir +
@@ -472,11 +570,12 @@ TEST(RgbdRunTest, TumFr1RpyExcerptEndToEnd) {
   std::printf("TUM fr1/rpy excerpt: ATE %.4f m, RPE rotation %.3f deg\n", ate,
               rpe_r);
   // Regression bounds with a margin over what the pipeline reaches (ATE
-  // 0.049 m, RPE 0.56 deg; README), not the targets (0.020 m,
+  // 0.0345 m, RPE 0.64 deg; README), not the targets (0.020 m,
   // 0.40 deg), which it does not reach. A camera that never moves scores
   // ATE 0.040 m and RPE 2.26 deg here: the rotation is what is measured.
-  EXPECT_LT(ate, 0.07) << report;
-  EXPECT_LT(rpe_r, 0.75) << report;
+  EXPECT_GE(ReportNumber(report, "accepted", "loop_closure"), 1) << report;
+  EXPECT_LT(ate, 0.042) << report;
+  EXPECT_LT(rpe_r, 0.72) << report;
   EXPECT_FALSE(std::isnan(ReportNumber(report, "rmse", "rpe_per_second")))
       << report;
   for (const char* f : {"trajectory.tum", "graph.g2o", "map_points.ply",

@@ -55,6 +55,8 @@ std::vector<Section> VisualSlamSections(StereoOdometryConfig* o,
         D("min_sigma_translation", &l->min_sigma_translation),
         D("drift_rotation", &l->drift_rotation),
         D("min_sigma_rotation", &l->min_sigma_rotation),
+        D("drift_translation_per_rad", &l->drift_translation_per_rad),
+        D("drift_rotation_per_rad", &l->drift_rotation_per_rad),
         K("kernel", &l->kernel), D("reject_chi2", &l->reject_chi2),
         I("max_iterations", &l->max_iterations)},
        {}}};

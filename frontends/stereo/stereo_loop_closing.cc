@@ -9,17 +9,22 @@
 #include "factors/pose_factors.h"
 
 namespace slam {
-namespace {
 
-// Covariance (rho, phi; full angle) -> information of the between factor.
-Eigen::Matrix<double, 6, 6> DriftInformation(const StereoLoopClosingConfig& c,
-                                             double distance) {
-  const double st = c.drift_translation * distance + c.min_sigma_translation;
-  const double sr = c.drift_rotation * distance + c.min_sigma_rotation;
+Eigen::Matrix<double, 6, 6> LoopDriftInformation(
+    const StereoLoopClosingConfig& c, const Pose3& relative) {
+  const double distance = relative.t.norm();
+  const double angle = Eigen::AngleAxisd(relative.q).angle();
+  const double st = c.drift_translation * distance +
+                    c.drift_translation_per_rad * angle +
+                    c.min_sigma_translation;
+  const double sr = c.drift_rotation * distance +
+                    c.drift_rotation_per_rad * angle + c.min_sigma_rotation;
   Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();
   covariance.diagonal() << st * st, st * st, st * st, sr * sr, sr * sr, sr * sr;
   return bow::BetweenSE3Information(covariance);
 }
+
+namespace {
 
 struct VerifiedLoop {
   size_t index;  // Into result->loops.
@@ -34,6 +39,7 @@ bool ValidateStereoLoopClosingConfig(const StereoLoopClosingConfig& c,
                                      std::string* error) {
   if (!(c.drift_translation >= 0) || !(c.min_sigma_translation > 0) ||
       !(c.drift_rotation >= 0) || !(c.min_sigma_rotation > 0) ||
+      !(c.drift_translation_per_rad >= 0) || !(c.drift_rotation_per_rad >= 0) ||
       !(c.reject_chi2 > 0) || c.max_iterations < 1) {
     *error =
         "loop_closure: drifts >= 0, minimum sigmas and reject_chi2 > 0, "
@@ -120,7 +126,7 @@ bool CloseStereoLoops(const bow::Vocabulary& vocabulary,
     const Pose3 z = before[k].Inverse() * before[k + 1];
     Factor f;
     if (!MakeBetweenSE3(Pose3Key(k), Pose3Key(k + 1), z,
-                        DriftInformation(config, z.t.norm()), &f, error) ||
+                        LoopDriftInformation(config, z), &f, error) ||
         graph.AddFactor(std::move(f)) < 0) {
       return false;
     }
