@@ -47,11 +47,10 @@ double VirtualRightU(double u, double depth,
                      const StereoCalibration& virtual_camera,
                      const RgbdConfig& config) {
   if (!(depth >= config.min_depth && depth <= config.max_depth) || depth <= 0) {
-    return -1.0;
+    return StereoFeatureFrame::kNoRightCoordinate;
   }
-  const double u_right =
-      u - virtual_camera.fx * virtual_camera.baseline / depth;
-  return u_right >= 0.0 ? u_right : -1.0;
+  // May be negative (near points at the image's left edge): still a depth.
+  return u - virtual_camera.fx * virtual_camera.baseline / depth;
 }
 
 RgbdFeatureExtractor::RgbdFeatureExtractor(const StereoFeatureConfig& features,

@@ -41,8 +41,14 @@ namespace slam {
 
 struct RgbdConfig {
   double depth_factor = 5000.0;  // Depth image units per metre (TUM: 5000).
-  // ORB-SLAM2's TUM settings: bf = 40 (fx b, b = 0.077 m at fx 517).
-  double virtual_baseline = 0.08;  // m.
+  // The depth noise the virtual right coordinate implies is
+  // sigma_z = z^2 sigma_u / (fx b). The Kinect / Xtion structured-light
+  // sensors of TUM RGB-D measure disparity in 1/8 pixel over a 7.5 cm
+  // baseline at fx ~ 580: a depth step of 2.9 mm x z^2, which 0.5 px (the
+  // keypoint sigma at the finest level) gives with b = 0.34 m. ORB-SLAM2's
+  // TUM setting bf = 40 (b = 0.08 m) is a depth noise 4 times larger,
+  // which lets the depth tell the pose less than it can.
+  double virtual_baseline = 0.34;  // m.
   double min_depth = 0.3;          // m; closer readings are not used.
   // Farther keypoints are monocular (ORB-SLAM2: ThDepth 40 baselines,
   // 3.1 m; the Kinect's depth error is about 4 cm at 3 m).
@@ -63,7 +69,8 @@ StereoCalibration VirtualStereoCalibration(const RgbdCamera& camera,
                                            const RgbdConfig& config);
 
 // u_R of a keypoint at u with depth z (z valid: in [min_depth, max_depth]),
-// or -1 (no stereo measurement).
+// or StereoFeatureFrame::kNoRightCoordinate (no depth measurement); negative
+// values are measurements (near points at the left edge of the image).
 double VirtualRightU(double u, double depth,
                      const StereoCalibration& virtual_camera,
                      const RgbdConfig& config);

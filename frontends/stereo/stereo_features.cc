@@ -218,7 +218,8 @@ void StereoFeatureExtractor::MatchStereo(
     const std::vector<cv::KeyPoint>& right_keypoints,
     const cv::Mat& right_descriptors, std::vector<double>* u_right) const {
   const StereoFeatureConfig& c = config_;
-  u_right->assign(left_keypoints.size(), -1.0);
+  u_right->assign(left_keypoints.size(),
+                  StereoFeatureFrame::kNoRightCoordinate);
   // Right keypoints by row band.
   const int rows = right.rows;
   std::vector<std::vector<int>> by_row(rows);

@@ -7,7 +7,9 @@
 #ifndef SLAM_FRONTENDS_STEREO_STEREO_FRAME_H_
 #define SLAM_FRONTENDS_STEREO_STEREO_FRAME_H_
 
+#include <cmath>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -27,15 +29,21 @@ struct StereoImages {
 
 // Features of one stereo frame: left keypoints with their ORB descriptors
 // (one 32-byte row each) and, where the stereo matching found one, the
-// sub-pixel u coordinate of the same point in the right image (negative:
-// no stereo match; the keypoint is then a monocular observation).
+// sub-pixel u coordinate of the same point in the right image
+// (kNoRightCoordinate: no stereo match; the keypoint is then a monocular
+// observation). The coordinate may be negative: an RGB-D keypoint's virtual
+// right coordinate u - fx b / z lies left of the image for near points at
+// its left edge (b = 0.34 m: the left quarter of the image at 1.5 m), and
+// its depth is still a measurement.
 struct StereoFeatureFrame {
+  static constexpr double kNoRightCoordinate =
+      std::numeric_limits<double>::quiet_NaN();
   int64_t index = 0;
   TimeNs stamp = 0;
   std::vector<cv::KeyPoint> keypoints;  // octave = pyramid level.
   cv::Mat descriptors;                  // keypoints.size() x 32, CV_8U.
-  std::vector<double> u_right;          // One per keypoint; < 0: none.
-  bool HasStereo(size_t i) const { return u_right[i] >= 0.0; }
+  std::vector<double> u_right;          // One per keypoint; NaN: none.
+  bool HasStereo(size_t i) const { return !std::isnan(u_right[i]); }
   size_t size() const { return keypoints.size(); }
 };
 

@@ -113,7 +113,11 @@ StereoSimulation SimulateStereo(const StereoSimulationConfig& c) {
         ur += u - (ur + shift) >= 1.0 ? shift : -std::abs(shift);
         is_outlier = true;
       }
-      add(u, v, u - ur >= 1.0 ? ur : -1.0, d, static_cast<int>(p), is_outlier);
+      // As a real right camera: a match needs the point inside its image.
+      add(u, v,
+          u - ur >= 1.0 && ur >= 0.0 ? ur
+                                     : StereoFeatureFrame::kNoRightCoordinate,
+          d, static_cast<int>(p), is_outlier);
       // A spurious keypoint with this point's appearance somewhere else.
       if (unit(rng) < c.outlier_fraction) {
         const double su = unit(rng) * (c.width - 1);
