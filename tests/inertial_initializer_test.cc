@@ -718,7 +718,7 @@ TEST(InertialFlightTest, SteadilyMovingStartIsNotTakenForStill) {
 // readings with the prior's bias, the heading it found drifted with the
 // bias (0.076 rad/s is 44 deg in 10 s) and the window started from a bias
 // it believed to 0.01 rad/s: the benchmark's gentle flight (90 s) had a
-// rotation error of 17.5 deg rmse after 15 s and bias NEES 46.5. Now the
+// rotation error of 17.5 deg rmse after 15 s, bias NEES 46.8. Now the
 // alignment re-integrates with its own gyro bias estimate, the prior is the
 // sensor's turn-on bias (configs/inertial_euroc.yaml) and the window starts
 // from the alignment's bias and sigma.
