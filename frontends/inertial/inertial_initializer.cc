@@ -28,9 +28,16 @@ constexpr int kMinAlignmentFixes = 5;
 // A moving start's alignment re-integrates the readings with its gyro bias
 // estimate when that moves by more than this (a heading drift of 0.6 deg
 // in 10 s, small against kMaxYawSigma), at most kMaxRelinearizations times
-// per fix.
+// per fix, kMaxReintegrations times in all and only over the first
+// kMaxReintegrationSeconds (each re-integration reads the log from its start
+// to the fix: the bounds keep a long log whose yaw never becomes observable
+// linear in its length; later fixes keep the last bias linearization). The
+// moving starts of tests/inertial_initializer_test.cc re-integrate 80-171
+// times before their yaw is known, 13-17 s in.
 constexpr double kRelinearizeGyroBias = 1e-3;  // rad/s
 constexpr int kMaxRelinearizations = 3;
+constexpr int kMaxReintegrations = 300;
+constexpr double kMaxReintegrationSeconds = 60.0;
 // The gyro bias sigma handed on: the gyroscope noise does not average out
 // as white noise in flight (vibration), as at a still start.
 constexpr double kMinGyroBiasSigma = 2e-3;  // rad/s
@@ -405,6 +412,7 @@ bool InitializeInertial(const InertialData& data,
   };
   const size_t f_first = f;
   bool readable = true;
+  int reintegrations = 0;
   for (; readable && f < data.positions.size(); ++f) {
     const PositionFix& fix = data.positions[f];
     if (fix.stamp > data.imu.back().stamp || !add_fix(f)) break;
@@ -417,8 +425,10 @@ bool InitializeInertial(const InertialData& data,
     // kRelinearizeGyroBias; the priors stay on the configured bias.
     for (int it = 0;
          !init->still_start && r.ok && it < kMaxRelinearizations &&
+         reintegrations < kMaxReintegrations &&
+         NsToSeconds(fix.stamp - t0) <= kMaxReintegrationSeconds &&
          r.bias_error.head<3>().cwiseAbs().maxCoeff() > kRelinearizeGyroBias;
-         ++it) {
+         ++it, ++reintegrations) {
       lin_bias.head<3>() += r.bias_error.head<3>();
       const Eigen::Vector3d offset =
           init->state.bias.head<3>() - lin_bias.head<3>();
