@@ -60,6 +60,7 @@ bool LoadInertialConfig(const std::string& path, InertialConfig* config,
                        "prior_velocity_sigma",
                        "prior_gyro_bias_sigma",
                        "prior_accel_bias_sigma",
+                       "moving_start_gyro_bias_sigma",
                        "initial_gyro_bias",
                        "initial_accel_bias",
                        "gyro_noise_inflation",
@@ -101,7 +102,9 @@ bool LoadInertialConfig(const std::string& path, InertialConfig* config,
       !ReadOptional(node, "prior_gyro_bias_sigma", path,
                     &o.prior_gyro_bias_sigma, error) ||
       !ReadOptional(node, "prior_accel_bias_sigma", path,
-                    &o.prior_accel_bias_sigma, error)) {
+                    &o.prior_accel_bias_sigma, error) ||
+      !ReadOptional(node, "moving_start_gyro_bias_sigma", path,
+                    &o.moving_start_gyro_bias_sigma, error)) {
     return false;
   }
   Eigen::Vector3d gyro_bias = o.initial_bias.head<3>();
@@ -180,9 +183,10 @@ bool ValidateInertialConfig(const InertialConfig& config, std::string* error) {
       return false;
     }
   }
-  for (double sigma : {o.position_sigma, o.prior_position_sigma,
-                       o.prior_rotation_sigma, o.prior_velocity_sigma,
-                       o.prior_gyro_bias_sigma, o.prior_accel_bias_sigma}) {
+  for (double sigma :
+       {o.position_sigma, o.prior_position_sigma, o.prior_rotation_sigma,
+        o.prior_velocity_sigma, o.prior_gyro_bias_sigma,
+        o.prior_accel_bias_sigma, o.moving_start_gyro_bias_sigma}) {
     if (!(sigma > 0.0) || !std::isfinite(sigma)) {
       *error = "sigmas must be > 0";
       return false;
@@ -224,6 +228,8 @@ std::string InertialConfigToYaml(const InertialConfig& config) {
       << "  prior_velocity_sigma: " << o.prior_velocity_sigma << "\n"
       << "  prior_gyro_bias_sigma: " << o.prior_gyro_bias_sigma << "\n"
       << "  prior_accel_bias_sigma: " << o.prior_accel_bias_sigma << "\n"
+      << "  moving_start_gyro_bias_sigma: " << o.moving_start_gyro_bias_sigma
+      << "\n"
       << "  initial_gyro_bias: " << Vector3Yaml(o.initial_bias.head<3>())
       << "\n"
       << "  initial_accel_bias: " << Vector3Yaml(o.initial_bias.tail<3>())

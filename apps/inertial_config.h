@@ -23,6 +23,8 @@
 //     prior_velocity_sigma: 0.1    #   m/s
 //     prior_gyro_bias_sigma: 0.01  # rad/s, sigma of the first bias prior
 //     prior_accel_bias_sigma: 0.1  # m/s^2
+//     moving_start_gyro_bias_sigma: 0.01  # rad/s, gyro bias prior of a
+//                                   # start in motion (turn-on bias)
 //     initial_gyro_bias: [0, 0, 0]   # rad/s, mean of the first bias prior
 //     initial_accel_bias: [0, 0, 0]  # m/s^2
 //

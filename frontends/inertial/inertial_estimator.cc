@@ -103,6 +103,13 @@ InitialGuess YawUnknownGuess(const InertialData& data,
   guess.state.state.velocity.setZero();
   guess.velocity_sigma = init.still_start ? init.velocity_sigma : 1.0;
   guess.yaw_sigma = M_PI;
+  if (!init.still_start) {
+    // A moving start's gyro bias comes from the alignment, which ends where
+    // this pass ends: before then only the configured prior is known.
+    guess.state.bias = options.initial_bias;
+    guess.gyro_bias_sigma = options.moving_start_gyro_bias_sigma;
+    guess.accel_bias_sigma = options.prior_accel_bias_sigma;
+  }
   return guess;
 }
 

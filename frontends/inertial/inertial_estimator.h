@@ -59,6 +59,10 @@ struct InertialOptions {
   double prior_velocity_sigma = 0.1;    // m/s
   double prior_gyro_bias_sigma = 1e-2;  // rad/s
   double prior_accel_bias_sigma = 0.1;  // m/s^2
+  // Gyro bias prior sigma of a start in motion (no still interval to
+  // measure the bias, no initial state): the sensor's turn-on bias, around
+  // initial_bias (inertial_initializer.h).
+  double moving_start_gyro_bias_sigma = 1e-2;  // rad/s
   SlidingWindowOptions window;          // prior_builder set by the estimator.
   // Marginal covariance of the newest keyframe after every window update
   // (for consistency checks; costs a covariance computation per update).

@@ -25,6 +25,22 @@ constexpr double kStillMaxAccelMeanChange = 0.2;   // m/s^2
 constexpr double kStillMaxVelocitySigma = 0.15;  // m/s
 constexpr double kStillMaxLookAheadSeconds = 1.0;
 constexpr int kMinAlignmentFixes = 5;
+// A moving start's alignment re-integrates the readings with its gyro bias
+// estimate when that moves by more than this (a heading drift of 0.6 deg
+// in 10 s, small against kMaxYawSigma), at most kMaxRelinearizations times
+// per fix, kMaxReintegrations times in all and only over the first
+// kMaxReintegrationSeconds (each re-integration reads the log from its start
+// to the fix: the bounds keep a long log whose yaw never becomes observable
+// linear in its length; later fixes keep the last bias linearization). The
+// moving starts of tests/inertial_initializer_test.cc re-integrate 80-171
+// times before their yaw is known, 13-17 s in.
+constexpr double kRelinearizeGyroBias = 1e-3;  // rad/s
+constexpr int kMaxRelinearizations = 3;
+constexpr int kMaxReintegrations = 300;
+constexpr double kMaxReintegrationSeconds = 60.0;
+// The gyro bias sigma handed on: the gyroscope noise does not average out
+// as white noise in flight (vibration), as at a still start.
+constexpr double kMinGyroBiasSigma = 2e-3;  // rad/s
 
 struct Moments {
   Eigen::Vector3d accel_sum = Eigen::Vector3d::Zero();
@@ -198,6 +214,9 @@ struct Alignment {
   using MatH = Eigen::Matrix<double, kH, kH>;
   MatH normal = MatH::Zero();
   MatH prior = MatH::Zero();
+  // The priors' mean: zero but for q and r after a relinearization of the
+  // gyroscope bias (they pull the bias towards the configured one).
+  VecH prior_mean = VecH::Zero();
   VecH rhs = VecH::Zero();
   Eigen::Matrix3d normal_z = Eigen::Matrix3d::Zero();
   Eigen::Vector3d rhs_z = Eigen::Vector3d::Zero();
@@ -234,6 +253,11 @@ struct Alignment {
   struct Result {
     double yaw = 0.0, yaw_sigma = M_PI;
     Eigen::Vector2d tilt_error = Eigen::Vector2d::Zero();  // e (see above)
+    // The bias error db = (c q + s r) / (c^2 + s^2) against the bias the
+    // readings were integrated with, and the largest sigma of its gyro part.
+    Eigen::Matrix<double, 6, 1> bias_error =
+        Eigen::Matrix<double, 6, 1>::Zero();
+    double gyro_bias_sigma = 1.0;
     Eigen::Vector3d p0 = Eigen::Vector3d::Zero(), v0 = Eigen::Vector3d::Zero();
     double position_sigma = 1.0, velocity_sigma = 1.0, tilt_sigma = 1.0;
     bool ok = false;
@@ -246,12 +270,15 @@ struct Alignment {
     if (ldlt.info() != Eigen::Success || ldlt_z.info() != Eigen::Success) {
       return r;
     }
-    const VecH x = ldlt.solve(rhs);
+    const VecH x = ldlt.solve(rhs + prior * prior_mean);
     const Eigen::Vector3d xz = ldlt_z.solve(rhs_z);
     const MatH cov = ldlt.solve(MatH::Identity());
     if (!x.allFinite() || !xz.allFinite() || !cov.allFinite()) return r;
     const int dof = 2 * fixes - 8;
-    const double chi2 = yy - x.dot(rhs);
+    // The cost at the solution, priors included.
+    const VecH dx = x - prior_mean;
+    const double chi2 =
+        yy - 2.0 * x.dot(rhs) + x.dot(normal * x) + dx.dot(prior * dx);
     const double scale = dof > 0 ? std::max(1.0, chi2 / dof) : 1.0;
     const Eigen::Vector2d cs = x.segment<2>(4);
     const double norm = cs.norm();
@@ -262,6 +289,16 @@ struct Alignment {
     r.yaw_sigma =
         std::sqrt(scale * across.dot(cov.block<2, 2>(4, 4) * across)) / norm;
     r.tilt_error = x.segment<2>(6);
+    const double norm2 = norm * norm;
+    r.bias_error =
+        (cs.x() * x.segment<6>(8) + cs.y() * x.segment<6>(14)) / norm2;
+    Eigen::Matrix<double, 6, 12> jb;
+    jb << cs.x() / norm2 * Eigen::Matrix<double, 6, 6>::Identity(),
+        cs.y() / norm2 * Eigen::Matrix<double, 6, 6>::Identity();
+    const Eigen::Matrix<double, 12, 12> cov_qr = cov.block<12, 12>(8, 8);
+    const Eigen::Matrix<double, 6, 6> cov_b = jb * cov_qr * jb.transpose();
+    r.gyro_bias_sigma =
+        std::sqrt(scale * cov_b.diagonal().head<3>().maxCoeff());
     r.p0 = Eigen::Vector3d(x[0], x[1], xz[0]);
     r.v0 = Eigen::Vector3d(x[2], x[3], xz[1]);
     const Eigen::Matrix3d cov_z = ldlt_z.solve(Eigen::Matrix3d::Identity());
@@ -315,13 +352,14 @@ bool InitializeInertial(const InertialData& data,
     init->state.bias.head<3>() = first.GyroMean();
     // The spread of the mean under the gyroscope's white noise (vibration
     // is not white: a floor).
-    init->gyro_bias_sigma =
-        std::max(2e-3, options.noise.gyro_noise_density /
-                           std::sqrt(std::max(init->still_seconds, 0.1)));
+    init->gyro_bias_sigma = std::max(
+        kMinGyroBiasSigma, options.noise.gyro_noise_density /
+                               std::sqrt(std::max(init->still_seconds, 0.1)));
     init->tilt_sigma = 0.02;  // An accelerometer bias of 0.2 m/s^2.
     init->velocity_sigma = 0.05;
   } else {
     init->tilt_sigma = 0.1;  // Mean reading of the first block, in motion.
+    init->gyro_bias_sigma = options.moving_start_gyro_bias_sigma;
   }
   // Roll and pitch from the mean accelerometer reading (R^T up ~ accel).
   Eigen::Matrix3d r_tilt =
@@ -344,19 +382,21 @@ bool InitializeInertial(const InertialData& data,
   init->yaw_hint_stamp = std::numeric_limits<TimeNs>::max();
 
   // In-motion alignment over the fixes, in time order.
-  PreintegratedImu pim(options.noise, init->state.bias, options.gravity);
+  ImuBias lin_bias = init->state.bias;  // The readings' integration bias.
+  PreintegratedImu pim(options.noise, lin_bias, options.gravity);
   TimeNs integrated_to = t0;
   double best_sigma = M_PI;  // The smallest yaw sigma of the fit so far.
   Alignment alignment(init->tilt_sigma, init->gyro_bias_sigma,
                       init->accel_bias_sigma);
   const double weight = 1.0 / (options.position_sigma * options.position_sigma);
-  for (; f < data.positions.size(); ++f) {
-    const PositionFix& fix = data.positions[f];
-    if (fix.stamp > data.imu.back().stamp) break;
+  // Integrates the readings up to fix g and adds it to the fit (false on a
+  // non-finite reading: the estimators report it).
+  auto add_fix = [&](size_t g) {
+    const PositionFix& fix = data.positions[g];
     if (fix.stamp > integrated_to) {
       if (!IntegrateImuSamples(data.imu, integrated_to, fix.stamp, &pim,
                                data.interpolation)) {
-        break;  // A non-finite reading: the estimators report it.
+        return false;
       }
       integrated_to = fix.stamp;
     }
@@ -368,7 +408,41 @@ bool InitializeInertial(const InertialData& data,
     Eigen::Matrix<double, 3, 6> m;
     m << r_level * pim.dp_dbg(), r_level * pim.dp_dba();
     alignment.Add(tau, y, u, m, weight);
-    const Alignment::Result r = alignment.Solve();
+    return true;
+  };
+  const size_t f_first = f;
+  bool readable = true;
+  int reintegrations = 0;
+  for (; readable && f < data.positions.size(); ++f) {
+    const PositionFix& fix = data.positions[f];
+    if (fix.stamp > data.imu.back().stamp || !add_fix(f)) break;
+    Alignment::Result r = alignment.Solve();
+    // A moving start's gyro bias is known only to its prior, the sensor's
+    // turn-on bias (several 0.01 rad/s on an ADIS16448): a bias error of
+    // 0.05 rad/s turns the integrated heading by 29 deg in 10 s, far
+    // outside the fit's first-order bias terms. Re-integrate with the
+    // fit's gyro bias (Gauss-Newton on it) while it moves by more than
+    // kRelinearizeGyroBias; the priors stay on the configured bias.
+    for (int it = 0;
+         !init->still_start && r.ok && it < kMaxRelinearizations &&
+         reintegrations < kMaxReintegrations &&
+         NsToSeconds(fix.stamp - t0) <= kMaxReintegrationSeconds &&
+         r.bias_error.head<3>().cwiseAbs().maxCoeff() > kRelinearizeGyroBias;
+         ++it, ++reintegrations) {
+      lin_bias.head<3>() += r.bias_error.head<3>();
+      const Eigen::Vector3d offset =
+          init->state.bias.head<3>() - lin_bias.head<3>();
+      alignment = Alignment(init->tilt_sigma, init->gyro_bias_sigma,
+                            init->accel_bias_sigma);
+      alignment.prior_mean.segment<3>(8) = std::cos(r.yaw) * offset;
+      alignment.prior_mean.segment<3>(14) = std::sin(r.yaw) * offset;
+      pim = PreintegratedImu(options.noise, lin_bias, options.gravity);
+      integrated_to = t0;
+      for (size_t g = f_first; readable && g <= f; ++g) readable = add_fix(g);
+      if (!readable) break;
+      r = alignment.Solve();
+    }
+    if (!readable) break;
     if (r.ok) best_sigma = std::min(best_sigma, r.yaw_sigma);
     if (r.ok && r.yaw_sigma < kYawHintSigma &&
         init->yaw_hint_stamp > fix.stamp) {
@@ -377,6 +451,14 @@ bool InitializeInertial(const InertialData& data,
     if (!r.ok || r.yaw_sigma > kMaxYawSigma) continue;
     init->yaw_observable = true;
     init->yaw_observable_stamp = fix.stamp;
+    if (!init->still_start) {
+      // The fit's gyro bias, with twice its sigma (as the yaw's), within
+      // the prior's.
+      init->state.bias.head<3>() = lin_bias.head<3>() + r.bias_error.head<3>();
+      init->gyro_bias_sigma =
+          std::min(init->gyro_bias_sigma,
+                   std::max(2.0 * r.gyro_bias_sigma, kMinGyroBiasSigma));
+    }
     init->alignment_fixes = alignment.fixes;
     Eigen::Matrix3d r_yaw =
         Eigen::AngleAxisd(r.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();

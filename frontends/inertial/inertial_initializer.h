@@ -37,11 +37,18 @@
 // that carries it. Fixes are added one at a time in time order (causal);
 // the yaw is observable at the first fix after which its standard deviation
 // is below kMaxYawSigma with at least 5 fixes; the prior then gets twice
-// that sigma (at least 1 degree). Until then the estimators put no yaw
-// information in the first prior (sigma 180 degrees), so the covariance of
-// the published estimate shows it; the sliding window's own yaw estimate
-// counts from the keyframe its yaw sigma falls below kMaxYawSigma
-// (inertial_estimator.h; only once the alignment's is below kYawHintSigma).
+// that sigma (at least 1 degree). Without a still start the gyroscope bias
+// is known only to its prior (moving_start_gyro_bias_sigma, the sensor's
+// turn-on bias: several 0.01 rad/s on the EuRoC ADIS16448), and the heading
+// drift it causes soon leaves the fit's first-order bias terms: the readings
+// are re-integrated with the fit's gyro bias whenever it moves (Gauss-Newton
+// on the bias, the prior kept on the configured bias), and the estimators
+// start from that bias with twice the fit's sigma (within the prior's). Until
+// then the estimators put no yaw information in the first prior (sigma 180
+// degrees), so the covariance of the published estimate shows it; the sliding
+// window's own yaw estimate counts from the keyframe its yaw sigma falls below
+// kMaxYawSigma (inertial_estimator.h; only once the alignment's is below
+// kYawHintSigma).
 #ifndef SLAM_FRONTENDS_INERTIAL_INERTIAL_INITIALIZER_H_
 #define SLAM_FRONTENDS_INERTIAL_INERTIAL_INITIALIZER_H_
 
