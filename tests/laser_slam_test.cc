@@ -481,12 +481,13 @@ TEST(LaserSlamTest, RevisitAfterLongExcursionIsClosed) {
 // turned by about 23 deg and the start is revisited 6 m and 23 deg from
 // where the map puts it. Closing it bends hundreds of overconfident
 // factors a little each: their summed chi2 rises above any fixed bound
-// (the old absolute test undid every such closure), yet far less per
-// keyframe of the cycle than a wrong closure's. No map can be right with
-// the wrong field of view, so the test measures what the Freiburg
-// relations measured: the relative pose of each scan of the first 20 m
-// and the scan at the same place one lap later (0.57 m now: the biased
-// scan matches still pull the closed map apart a little).
+// (the old absolute bound undid most closures and the robust kernel
+// switched off the few it kept), yet less per link of the chain than a
+// wrong closure's. No map can be right with the wrong field of view, so
+// the test measures what the Freiburg relations measured: the relative
+// pose of each scan of the first 20 m and the scan at the same place one
+// lap later (0.57 m now: the biased scan matches still pull the closed
+// map apart a little).
 TEST(LaserSlamTest, RevisitAfterDriftThroughBiasedScanMatchesIsClosed) {
   LogFaults faults;
   faults.turn_steps = 3;
