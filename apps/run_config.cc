@@ -111,6 +111,7 @@ Section Schema(RunConfig* c) {
          D("global_window", &s.loop_global_window),
          I("global_min_agreeing", &s.loop_global_min_agreeing),
          D("global_max_chi2", &s.loop_global_max_chi2),
+         D("max_chi2_per_link", &s.loop_max_chi2_per_link),
          I("undone_memory", &s.loop_undone_memory),
          I("context_rings", &s.loop_context.rings),
          I("context_sectors", &s.loop_context.sectors),

@@ -658,6 +658,44 @@ bool LaserSlam::VerifyLoop(int k, int j, const Pose2& guess,
   return true;
 }
 
+int LaserSlam::ChainLinks() const {
+  // Breadth-first search over the keyframes joined by scan-match and
+  // odometry factors (no loop closures: the kernel may have switched an
+  // earlier one off, and the drift to correct accumulated along the
+  // chain), from each closure's keyframe j to its k.
+  const int n = static_cast<int>(keyframes_.size());
+  std::vector<FactorId> loops = loop_factors_;
+  std::sort(loops.begin(), loops.end());
+  std::vector<std::vector<int>> neighbours(n);
+  for (const auto& [id, factor] : graph_.factors()) {
+    if (std::binary_search(loops.begin(), loops.end(), id) ||
+        factor.keys.size() != 2) {
+      continue;
+    }
+    const int64_t a = factor.keys[0].id, b = factor.keys[1].id;
+    if (a < 0 || b < 0 || a >= n || b >= n) continue;
+    neighbours[a].push_back(static_cast<int>(b));
+    neighbours[b].push_back(static_cast<int>(a));
+  }
+  int shortest = n;
+  std::vector<int> hops(n);
+  std::vector<int> queue;
+  for (const auto& [id, h] : plain_closures_) {
+    std::fill(hops.begin(), hops.end(), -1);
+    queue.assign(1, h.j);
+    hops[h.j] = 0;
+    for (size_t q = 0; q < queue.size() && hops[h.k] < 0; ++q) {
+      for (int m : neighbours[queue[q]]) {
+        if (hops[m] >= 0) continue;
+        hops[m] = hops[queue[q]] + 1;
+        queue.push_back(m);
+      }
+    }
+    if (hops[h.k] >= 0) shortest = std::min(shortest, hops[h.k]);
+  }
+  return shortest;
+}
+
 bool LaserSlam::ApplyPlainClosures() {
   // The chi2 of every other factor (robustified where it has a kernel):
   // how much the closures make the rest of the graph bend.
@@ -683,7 +721,12 @@ bool LaserSlam::ApplyPlainClosures() {
   const double increase = rest_chi2() - before;
   last_optimized_keyframe_ = n - 1;
   pending_loop_ = false;
-  const bool keep = increase <= config_.loop_global_max_chi2;
+  // The bound grows with the links of the chain the closures bend:
+  // a true correction of drift accumulated over many overconfident factors
+  // bends each of them a little, a wrong one bends them a lot.
+  const bool keep =
+      increase <= std::max(config_.loop_global_max_chi2,
+                           config_.loop_max_chi2_per_link * ChainLinks());
   for (const auto& [id, h] : plain_closures_) {
     if (graph_.FindFactor(id) == nullptr) continue;
     graph_.RemoveFactor(id);
