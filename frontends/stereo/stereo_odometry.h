@@ -96,6 +96,13 @@ struct StereoOdometryConfig {
   // much between views; the whitened residuals of the KITTI excerpt have an
   // RMS near 0.3 px.
   double pixel_sigma = 0.5;
+  // Disparity noise, pixels at every octave: the disparity is refined on
+  // full-resolution patches (stereo_features.h step 3), whatever the
+  // octave of the keypoint, and u_R = u_L - d shares u_L's error
+  // (StereoInformation). Depth noise is then disparity_sigma z^2 / (fx b),
+  // growing with the square of the depth. Chosen on the KITTI 06 excerpt
+  // at half resolution (README).
+  double disparity_sigma = 0.5;
   double scale_factor = 1.2;   // Of the feature pyramid.
   double chi2_stereo = 7.815;  // 95 % of chi2 with 3 dof.
   double chi2_mono = 5.991;    // 95 % of chi2 with 2 dof.
@@ -122,6 +129,8 @@ struct StereoOdometryConfig {
   // between keyframes on the synthetic world, but on the KITTI 06 excerpt
   // it made the RPE worse (0.025 -> 0.052 m full, 0.052 -> 0.086 m half).
   bool refine_with_structure = false;
+  bool track_last_frame = true;
+  bool keyframe_odometry = true;
   // PnP-RANSAC fallback.
   double pnp_reprojection_error = 3.0;  // Pixels.
   int pnp_iterations = 300;
@@ -147,6 +156,12 @@ struct StereoOdometryConfig {
 
 bool ValidateStereoOdometryConfig(const StereoOdometryConfig& config,
                                   std::string* error);
+
+// The information matrix of a stereo measurement (u_L, u_R, v)
+// (factors/stereo_projection.h) whose keypoint (u_L, v) has noise
+// pixel_sigma on each axis and whose disparity d = u_L - u_R has
+// disparity_sigma, independent of it: u_R shares u_L's error.
+Eigen::Matrix3d StereoInformation(double pixel_sigma, double disparity_sigma);
 
 // What happened to one frame.
 struct StereoFrameResult {
@@ -264,6 +279,40 @@ class StereoOdometry {
     int distance;
   };
 
+  // A stereo keypoint of the last frame (when it is not a keyframe) that
+  // no map point explains: a point for the next frame's tracking only.
+  struct LastFramePoint {
+    Eigen::Vector3d position;  // World frame.
+    cv::Mat descriptor;        // 1 x 32 (a row of the frame's).
+  };
+  // Match::point of a last-frame point: -2 - its index (-1 means none).
+  static bool IsLastFramePoint(int64_t point) { return point <= -2; }
+  static int64_t LastFramePointId(size_t index) {
+    return -2 - static_cast<int64_t>(index);
+  }
+  static size_t LastFramePointIndex(int64_t point) {
+    return static_cast<size_t>(-2 - point);
+  }
+  // A map point or a last-frame point.
+  Eigen::Vector3d Position(int64_t point) const;
+  const cv::Mat& Descriptor(int64_t point) const;
+  void UpdateLastFramePoints(const StereoFeatureFrame& frame, const Pose3& pose,
+                             const std::vector<Match>& matches, bool keyframe);
+  // Keypoint i (with stereo) in its camera's frame.
+  Eigen::Vector3d StereoPoint(const StereoFeatureFrame& frame, size_t i) const;
+  using Matrix6 = Eigen::Matrix<double, 6, 6>;
+  // The pose information (over the SE(3) manifold's tangent) of the
+  // frame's matches at `pose`, the points held; only the last frame's
+  // points' with last_frame_only.
+  void TrackingInformation(const StereoFeatureFrame& frame,
+                           const std::vector<Match>& matches, const Pose3& pose,
+                           bool last_frame_only, Matrix6* information) const;
+  // Extends the tracking chain from the last keyframe by this frame.
+  void ChainTracking(const StereoFeatureFrame& frame,
+                     const std::vector<Match>& matches, const Pose3& previous,
+                     const Pose3& pose, bool after_keyframe);
+  // The chain as a relative-pose factor from keyframe id - 1 to id.
+  void AddKeyframeOdometry(int64_t id);
   Pose3 FramePose(const FrameRecord& record) const;
   Eigen::Vector3d PointValue(int64_t point) const;
   std::vector<int64_t> LocalMapPoints(int64_t frame_index);
@@ -310,6 +359,13 @@ class StereoOdometry {
   void RemoveDeadPoints();
   std::vector<FrameRecord> frames_;
   Pose3 last_motion_;  // T_prev^-1 T_current.
+  std::vector<LastFramePoint> last_frame_points_;
+  // The tracking from the last keyframe to the current frame: relative
+  // pose and its covariance (tangent of the right perturbation).
+  bool chain_valid_ = false;
+  Pose3 chain_;
+  Matrix6 chain_covariance_ = Matrix6::Zero();
+  std::vector<FactorId> odometry_factor_;  // Per keyframe; -1: none.
   int frames_since_keyframe_ = 0;
   StereoOdometryStats stats_;
 };
