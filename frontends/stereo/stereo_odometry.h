@@ -8,7 +8,13 @@
 //  1. Prediction: the previous frame's pose composed with the last
 //     inter-frame motion (constant velocity; identity for the second frame).
 //  2. Local map: the points observed by the last local_map_keyframes
-//     keyframes.
+//     keyframes, and (track_last_frame), when the last frame is not a
+//     keyframe, its close stereo keypoints that no map point explains, as
+//     points for this frame's tracking only (ORB-SLAM2's visual-odometry
+//     points): without them a frame is tracked against points ever further
+//     from the keyframe that made them (two frames of travel doubled the
+//     pose error on KITTI 06), and the next keyframe shares few points with
+//     the last.
 //  3. Matching by projection: each local point, projected with the
 //     predicted pose, is matched to the frame's keypoint within
 //     search_radius pixels (times 1.2^octave of the keypoint) with the
@@ -21,8 +27,9 @@
 //     the matches with a Huber kernel, in pose_rounds rounds; after each
 //     round every match is classified by the chi2 test of its whitened
 //     error (chi2_stereo for 3 dof, chi2_mono for 2) and only inliers
-//     enter the next round (ORB-SLAM's PoseOptimization). Pixel noise:
-//     pixel_sigma * 1.2^octave. Close and far (ORB-SLAM2's stereo rule): a
+//     enter the next round (ORB-SLAM's PoseOptimization). Noise: the
+//     keypoint pixel_sigma * 1.2^octave, the disparity disparity_sigma
+//     (StereoInformation). Close and far (ORB-SLAM2's stereo rule): a
 //     stereo keypoint deeper than close_depth_baselines baselines is a
 //     monocular observation everywhere (tracking and bundle adjustment), as
 //     its disparity, a few pixels, tells the depth only to within its
@@ -51,11 +58,19 @@
 //     observes, or when fewer than keyframe_close_tracked close points are
 //     tracked while more than keyframe_new_close close stereo keypoints
 //     could be added (new structure).
-//  7. Keyframe: its inlier matches become factors; its stereo keypoints
-//     without a map point (closer than the feature extractor's depth limit)
-//     become new map points, triangulated from the stereo pair (the far ones
-//     unconfirmed, see step 4). A point
-//     that min_point_observations keyframes do not observe by the time
+//  7. Keyframe: its inlier matches become factors (those to the last
+//     frame's points do not: their keypoints become new points); with
+//     keyframe_odometry, the chain of trackings since the last keyframe
+//     (each frame's pose information from its matches, the points held:
+//     the map's for the frame after the keyframe, the last frame's points'
+//     for the others, composed to first order) becomes a relative-pose
+//     factor between the two keyframes (factors/between_se3.h), so that
+//     bundle adjustment does not override what the frames between them
+//     tracked with the few points the two keyframes share. Its stereo
+//     keypoints without a map point (closer than the feature extractor's
+//     depth limit) become new map points, triangulated from the stereo pair
+//     (the far ones unconfirmed, see step 4). A point that
+//     min_point_observations keyframes do not observe by the time
 //     cull_after_keyframes more keyframes exist is removed (an unconfirmed
 //     point: a wrong stereo match, or a feature that did not repeat).
 //  8. Local bundle adjustment over the last window_keyframes keyframes and
@@ -75,6 +90,9 @@
 // Every frame keeps its pose relative to its reference keyframe (the last
 // keyframe when it was tracked), so that every frame gets a pose in the
 // output trajectory after the keyframes move.
+//
+// Local BA (step 8) includes the relative-pose factors of step 7 between
+// the window's keyframes (the keyframe before the window held fixed).
 #ifndef SLAM_FRONTENDS_STEREO_STEREO_ODOMETRY_H_
 #define SLAM_FRONTENDS_STEREO_STEREO_ODOMETRY_H_
 
@@ -129,6 +147,8 @@ struct StereoOdometryConfig {
   // between keyframes on the synthetic world, but on the KITTI 06 excerpt
   // it made the RPE worse (0.025 -> 0.052 m full, 0.052 -> 0.086 m half).
   bool refine_with_structure = false;
+  // Steps 2 and 7 (the last frame's points; the tracking chain as a
+  // factor between keyframes).
   bool track_last_frame = true;
   bool keyframe_odometry = true;
   // PnP-RANSAC fallback.
