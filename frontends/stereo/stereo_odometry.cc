@@ -224,7 +224,22 @@ void StereoOdometry::ChainTracking(const StereoFeatureFrame& frame,
 
 Pose3 StereoOdometry::FramePose(const FrameRecord& record) const {
   if (record.keyframe < 0) return Pose3();
-  return KeyframePose(record.keyframe) * record.keyframe_to_frame;
+  const Pose3 reference = KeyframePose(record.keyframe);
+  const size_t next = static_cast<size_t>(record.keyframe) + 1;
+  if (next >= keyframes_.size() || !keyframes_[next].has_chain) {
+    return reference * record.keyframe_to_frame;
+  }
+  // What bundle adjustment changed between the two keyframes against their
+  // tracking, spread along the frames between them by their share of it.
+  const Keyframe& a = keyframes_[record.keyframe];
+  const Keyframe& b = keyframes_[next];
+  const Pose3 delta = reference.Inverse() * KeyframePose(next) *
+                      b.chain_from_previous.Inverse();
+  const double s = static_cast<double>(record.index - a.frame_index) /
+                   static_cast<double>(b.frame_index - a.frame_index);
+  const Pose3 part(s * delta.t,
+                   Eigen::Quaterniond::Identity().slerp(s, delta.q));
+  return reference * part * record.keyframe_to_frame;
 }
 
 std::vector<int64_t> StereoOdometry::LocalMapPoints(int64_t frame_index) {
@@ -743,6 +758,8 @@ void StereoOdometry::AddKeyframeOdometry(int64_t id) {
     return;
   }
   odometry_factor_[id] = graph_.AddFactor(std::move(factor));
+  keyframes_[id].has_chain = true;
+  keyframes_[id].chain_from_previous = chain_;
 }
 
 void StereoOdometry::RemoveDeadPoints() {

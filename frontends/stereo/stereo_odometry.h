@@ -89,7 +89,10 @@
 //
 // Every frame keeps its pose relative to its reference keyframe (the last
 // keyframe when it was tracked), so that every frame gets a pose in the
-// output trajectory after the keyframes move.
+// output trajectory after the keyframes move; with keyframe_odometry, what
+// bundle adjustment changed in the next keyframe's pose against the
+// tracking chain is spread along the frames between the two by their share
+// of the frames (else the one step into the next keyframe takes all of it).
 //
 // Local BA (step 8) includes the relative-pose factors of step 7 between
 // the window's keyframes (the keyframe before the window held fixed).
@@ -286,6 +289,9 @@ class StereoOdometry {
     StereoFeatureFrame features;
     std::vector<int64_t> point_of_keypoint;  // -1: none.
     std::vector<int64_t> created_points;
+    // The tracking from the previous keyframe (keyframe_odometry).
+    bool has_chain = false;
+    Pose3 chain_from_previous;
   };
   struct FrameRecord {
     int64_t index = 0;
