@@ -14,6 +14,7 @@
 #include <opencv2/features2d.hpp>
 
 #include "ceres/ceres.h"
+#include "core/lie.h"
 #include "factors/landmark_factors.h"
 #include "factors/pose_factors.h"
 
@@ -37,15 +38,26 @@ ceres::Solver::Options SolverOptions(int iterations,
 
 }  // namespace
 
+Eigen::Matrix3d StereoInformation(double pixel_sigma, double disparity_sigma) {
+  // (u_L, u_R, v) = (u_L, u_L - d, v) with u_L, v, d independent.
+  const double p2 = pixel_sigma * pixel_sigma;
+  Eigen::Matrix3d covariance;
+  covariance << p2, p2, 0, p2, p2 + disparity_sigma * disparity_sigma, 0, 0, 0,
+      p2;
+  return covariance.inverse();
+}
+
 bool ValidateStereoOdometryConfig(const StereoOdometryConfig& c,
                                   std::string* error) {
   auto fail = [&](const char* message) {
     *error = message;
     return false;
   };
-  if (!(c.pixel_sigma > 0) || !(c.scale_factor >= 1) || !(c.chi2_stereo > 0) ||
-      !(c.chi2_mono > 0))
-    return fail("pixel_sigma, chi2 thresholds must be > 0, scale_factor >= 1");
+  if (!(c.pixel_sigma > 0) || !(c.disparity_sigma > 0) ||
+      !(c.scale_factor >= 1) || !(c.chi2_stereo > 0) || !(c.chi2_mono > 0))
+    return fail(
+        "pixel_sigma, disparity_sigma, chi2 thresholds must be > 0, "
+        "scale_factor >= 1");
   if (!(c.close_depth_baselines > 0) || c.far_point_min_keyframes < 2 ||
       !(c.min_parallax >= 0))
     return fail(
@@ -101,9 +113,133 @@ Eigen::Vector3d StereoOdometry::PointValue(int64_t point) const {
   return Eigen::Vector3d(v[0], v[1], v[2]);
 }
 
+Eigen::Vector3d StereoOdometry::Position(int64_t point) const {
+  return IsLastFramePoint(point)
+             ? last_frame_points_[LastFramePointIndex(point)].position
+             : PointValue(point);
+}
+
+const cv::Mat& StereoOdometry::Descriptor(int64_t point) const {
+  return IsLastFramePoint(point)
+             ? last_frame_points_[LastFramePointIndex(point)].descriptor
+             : points_[point].descriptor;
+}
+
+void StereoOdometry::UpdateLastFramePoints(const StereoFeatureFrame& frame,
+                                           const Pose3& pose,
+                                           const std::vector<Match>& matches,
+                                           bool keyframe) {
+  last_frame_points_.clear();
+  if (keyframe || !config_.track_last_frame) return;
+  std::vector<bool> matched(frame.size(), false);
+  for (const Match& m : matches) matched[m.keypoint] = true;
+  const Eigen::Matrix3d r = pose.q.toRotationMatrix();
+  for (size_t i = 0; i < frame.size(); ++i) {
+    if (matched[i] || !IsClose(frame, i)) continue;
+    last_frame_points_.push_back({r * StereoPoint(frame, i) + pose.t,
+                                  frame.descriptors.row(static_cast<int>(i))});
+  }
+}
+
+Eigen::Vector3d StereoOdometry::StereoPoint(const StereoFeatureFrame& frame,
+                                            size_t i) const {
+  const double disparity = frame.keypoints[i].pt.x - frame.u_right[i];
+  const double z = calibration_.fx * calibration_.baseline / disparity;
+  return Eigen::Vector3d(
+      (frame.keypoints[i].pt.x - calibration_.cx) * z / calibration_.fx,
+      (frame.keypoints[i].pt.y - calibration_.cy) * z / calibration_.fy, z);
+}
+
+void StereoOdometry::TrackingInformation(const StereoFeatureFrame& frame,
+                                         const std::vector<Match>& matches,
+                                         const Pose3& pose,
+                                         bool last_frame_only,
+                                         Matrix6* information) const {
+  information->setZero();
+  const std::vector<double> camera = Pose3Value(pose);
+  Eigen::Matrix<double, 7, 6, Eigen::RowMajor> plus;
+  graph_.ManifoldFor(NodeKind::kPose3)
+      ->PlusJacobian(camera.data(), plus.data());
+  for (const Match& m : matches) {
+    if (last_frame_only && !IsLastFramePoint(m.point)) continue;
+    if (config_.far_points_wait && !IsLastFramePoint(m.point) &&
+        !points_[m.point].confirmed) {
+      continue;  // Not in the refinement (step 4).
+    }
+    Factor factor;
+    if (!MakeObservationFactor(frame, m.keypoint, Pose3Key(0), Point3Key(0),
+                               &factor)) {
+      continue;
+    }
+    const Eigen::Vector3d x = Position(m.point);
+    const double* parameters[2] = {camera.data(), x.data()};
+    const int n = factor.cost->num_residuals();
+    Eigen::Matrix<double, 3, 7, Eigen::RowMajor> jacobian;
+    double residuals[3];
+    double* jacobians[2] = {jacobian.data(), nullptr};
+    if (!factor.cost->Evaluate(parameters, residuals, jacobians)) continue;
+    const Eigen::MatrixXd j = jacobian.topRows(n) * plus;
+    *information += j.transpose() * j;
+  }
+}
+
+void StereoOdometry::ChainTracking(const StereoFeatureFrame& frame,
+                                   const std::vector<Match>& matches,
+                                   const Pose3& previous, const Pose3& pose,
+                                   bool after_keyframe) {
+  if (!config_.keyframe_odometry) return;
+  // This frame's pose information, given the points it was tracked
+  // against: the map's when the previous frame is the keyframe, else the
+  // previous frame's own points (its map matches are in the local map of
+  // the keyframe already, or the keyframe observes them).
+  Matrix6 information;
+  TrackingInformation(frame, matches, pose,
+                      !after_keyframe && config_.track_last_frame,
+                      &information);
+  const Eigen::LDLT<Matrix6> ldlt(information);
+  if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 0) ||
+      !(ldlt.vectorD().minCoeff() > 1e-9 * ldlt.vectorD().maxCoeff())) {
+    chain_valid_ = false;  // A step without information breaks the chain.
+    return;
+  }
+  const Matrix6 step_covariance = ldlt.solve(Matrix6::Identity());
+  if (after_keyframe) {
+    chain_valid_ = true;
+    chain_ = previous.Inverse() * pose;
+    chain_covariance_ = step_covariance;
+    return;
+  }
+  if (!chain_valid_) return;
+  // Z = Z_prev S with right perturbations (t + R rho, R Exp(phi)) of both:
+  // delta_Z = A delta_prev + delta_S, A = [R_S^T, -R_S^T [t_S]x; 0, R_S^T].
+  const Pose3 step = previous.Inverse() * pose;
+  const Eigen::Matrix3d rt = step.q.conjugate().toRotationMatrix();
+  Matrix6 a = Matrix6::Zero();
+  a.topLeftCorner<3, 3>() = rt;
+  a.topRightCorner<3, 3>() = -rt * Skew<double>(step.t);
+  a.bottomRightCorner<3, 3>() = rt;
+  chain_ = chain_ * step;
+  chain_covariance_ = a * chain_covariance_ * a.transpose() + step_covariance;
+}
+
 Pose3 StereoOdometry::FramePose(const FrameRecord& record) const {
   if (record.keyframe < 0) return Pose3();
-  return KeyframePose(record.keyframe) * record.keyframe_to_frame;
+  const Pose3 reference = KeyframePose(record.keyframe);
+  const size_t next = static_cast<size_t>(record.keyframe) + 1;
+  if (next >= keyframes_.size() || !keyframes_[next].has_chain) {
+    return reference * record.keyframe_to_frame;
+  }
+  // What bundle adjustment changed between the two keyframes against their
+  // tracking, spread along the frames between them by their share of it.
+  const Keyframe& a = keyframes_[record.keyframe];
+  const Keyframe& b = keyframes_[next];
+  const Pose3 delta = reference.Inverse() * KeyframePose(next) *
+                      b.chain_from_previous.Inverse();
+  const double s = static_cast<double>(record.index - a.frame_index) /
+                   static_cast<double>(b.frame_index - a.frame_index);
+  const Pose3 part(s * delta.t,
+                   Eigen::Quaterniond::Identity().slerp(s, delta.q));
+  return reference * part * record.keyframe_to_frame;
 }
 
 std::vector<int64_t> StereoOdometry::LocalMapPoints(int64_t frame_index) {
@@ -138,7 +274,7 @@ std::vector<StereoOdometry::Match> StereoOdometry::SearchByProjection(
   const double max_scale = std::pow(config_.scale_factor, 7);
   std::vector<Match> best(frame.size(), {-1, -1, 1 << 30});
   for (int64_t p : points) {
-    const Eigen::Vector3d pc = rt * (PointValue(p) - pose.t);
+    const Eigen::Vector3d pc = rt * (Position(p) - pose.t);
     if (!(pc.z() > 0.1 * calibration_.baseline)) continue;
     const double u = calibration_.fx * pc.x() / pc.z() + calibration_.cx;
     const double v = calibration_.fy * pc.y() / pc.z() + calibration_.cy;
@@ -159,7 +295,7 @@ std::vector<StereoOdometry::Match> StereoOdometry::SearchByProjection(
           if (du * du + dv * dv > r * r) continue;
           if (frame.HasStereo(i) && std::abs(frame.u_right[i] - ur) > r)
             continue;
-          const int d = Hamming(points_[p].descriptor, 0, frame.descriptors, i);
+          const int d = Hamming(Descriptor(p), 0, frame.descriptors, i);
           if (d < best_d) {
             second_d = best_d;
             best_d = d;
@@ -229,7 +365,7 @@ bool StereoOdometry::PnpRansac(const StereoFeatureFrame& frame,
   std::vector<cv::Point3d> object;
   std::vector<cv::Point2d> image;
   for (const Match& m : matches) {
-    const Eigen::Vector3d p = PointValue(m.point);
+    const Eigen::Vector3d p = Position(m.point);
     object.emplace_back(p.x(), p.y(), p.z());
     image.emplace_back(frame.keypoints[m.keypoint].pt);
   }
@@ -269,7 +405,8 @@ bool StereoOdometry::MakeObservationFactor(const StereoFeatureFrame& frame,
   if (IsClose(frame, keypoint)) {
     return MakeStereo(camera, point, calibration_,
                       Eigen::Vector3d(k.pt.x, frame.u_right[keypoint], k.pt.y),
-                      info * Eigen::Matrix3d::Identity(), factor, &error);
+                      StereoInformation(sigma, config_.disparity_sigma), factor,
+                      &error);
   }
   return MakeReprojection(camera, point, pinhole_,
                           Eigen::Vector2d(k.pt.x, k.pt.y),
@@ -296,7 +433,7 @@ int StereoOdometry::OptimizePose(const StereoFeatureFrame& frame,
   std::vector<std::array<double, 3>> values(matches->size());
   for (size_t k = 0; k < matches->size(); ++k) {
     const Match& m = (*matches)[k];
-    const Eigen::Vector3d p = PointValue(m.point);
+    const Eigen::Vector3d p = Position(m.point);
     values[k] = {p.x(), p.y(), p.z()};
     MakeObservationFactor(frame, m.keypoint, Pose3Key(0), Point3Key(0),
                           &factors[k]);
@@ -305,15 +442,19 @@ int StereoOdometry::OptimizePose(const StereoFeatureFrame& frame,
   // Unconfirmed far points are classified, not used (step 4).
   std::vector<bool> informs(matches->size());
   for (size_t k = 0; k < matches->size(); ++k) {
+    const int64_t p = (*matches)[k].point;
     informs[k] =
-        !config_.far_points_wait || points_[(*matches)[k].point].confirmed;
+        !config_.far_points_wait || IsLastFramePoint(p) || points_[p].confirmed;
   }
   const ceres::Manifold* manifold = graph_.ManifoldFor(NodeKind::kPose3);
   // With refine_with_structure, copies of the observing keyframes' poses
   // (held fixed); the map itself is not changed.
   std::map<int64_t, std::vector<double>> keyframe_values;
-  const std::vector<bool> free_point(matches->size(),
-                                     config_.refine_with_structure);
+  std::vector<bool> free_point(matches->size());
+  for (size_t k = 0; k < matches->size(); ++k) {
+    free_point[k] =
+        config_.refine_with_structure && !IsLastFramePoint((*matches)[k].point);
+  }
   // Each free point's keyframe observations: the point must still agree
   // with them (a wrong match would pull it away).
   std::vector<std::vector<std::pair<const Factor*, const double*>>> held_by(
@@ -452,19 +593,16 @@ int64_t StereoOdometry::AddKeyframe(const StereoFeatureFrame& frame,
     kf.point_of_keypoint[keypoint] = point;
     return true;
   };
-  for (const Match& m : matches) observe(m.keypoint, m.point);
+  for (const Match& m : matches) {
+    if (!IsLastFramePoint(m.point)) observe(m.keypoint, m.point);
+  }
   // New points from the stereo keypoints without a map point.
   *new_points = 0;
   const Eigen::Matrix3d r = pose.q.toRotationMatrix();
   for (size_t i = 0; i < frame.size(); ++i) {
     if (!frame.HasStereo(i)) continue;
     if (kf.point_of_keypoint[i] >= 0) continue;
-    const double disparity = frame.keypoints[i].pt.x - frame.u_right[i];
-    const double z = calibration_.fx * calibration_.baseline / disparity;
-    const Eigen::Vector3d pc(
-        (frame.keypoints[i].pt.x - calibration_.cx) * z / calibration_.fx,
-        (frame.keypoints[i].pt.y - calibration_.cy) * z / calibration_.fy, z);
-    const Eigen::Vector3d pw = r * pc + pose.t;
+    const Eigen::Vector3d pw = r * StereoPoint(frame, i) + pose.t;
     const int64_t pid = static_cast<int64_t>(points_.size());
     points_.emplace_back();
     points_.back().anchor_keyframe = id;
@@ -560,6 +698,19 @@ void StereoOdometry::LocalBundleAdjustment(int64_t newest) {
         }
       }
     }
+    // The tracking between consecutive keyframes of the window (step 7).
+    for (int64_t k = std::max<int64_t>(first, 1); k <= newest; ++k) {
+      if (odometry_factor_[k] < 0) continue;
+      const Factor* f = graph_.FindFactor(odometry_factor_[k]);
+      std::vector<double*> blocks = graph_.ParameterBlocks(*f);
+      problem.AddResidualBlock(f->cost.get(), f->loss.get(), blocks);
+      for (double* b : blocks) {
+        if (ordering->IsMember(b)) continue;
+        problem.SetManifold(b, const_cast<ceres::Manifold*>(manifold));
+        ordering->AddElementToGroup(b, 1);
+      }
+      if (k - 1 < first) fixed.push_back(k - 1);
+    }
     std::sort(fixed.begin(), fixed.end());
     fixed.erase(std::unique(fixed.begin(), fixed.end()), fixed.end());
     for (int64_t k : fixed) {
@@ -586,6 +737,29 @@ void StereoOdometry::LocalBundleAdjustment(int64_t newest) {
     for (int64_t p : keyframes_[check].created_points) CullPoint(p);
   }
   RemoveDeadPoints();
+}
+
+void StereoOdometry::AddKeyframeOdometry(int64_t id) {
+  odometry_factor_.resize(id + 1, -1);
+  const bool valid = chain_valid_ && id > 0;
+  chain_valid_ = false;
+  if (!valid) return;
+  // e = (t, vec q) of the between factor is (rho, phi / 2) near the
+  // measurement: its information is D Cov^-1 D, D = diag(I, 2 I).
+  Matrix6 d = Matrix6::Identity();
+  d.bottomRightCorner<3, 3>() *= 2.0;
+  const Matrix6 information =
+      d * chain_covariance_.ldlt().solve(Matrix6::Identity()) * d;
+  Factor factor;
+  std::string error;
+  if (!MakeBetweenSE3(Pose3Key(id - 1), Pose3Key(id), chain_,
+                      0.5 * (information + information.transpose()), &factor,
+                      &error)) {
+    return;
+  }
+  odometry_factor_[id] = graph_.AddFactor(std::move(factor));
+  keyframes_[id].has_chain = true;
+  keyframes_[id].chain_from_previous = chain_;
 }
 
 void StereoOdometry::RemoveDeadPoints() {
@@ -627,9 +801,14 @@ StereoFrameResult StereoOdometry::AddFrame(const StereoFeatureFrame& frame) {
   result.initialized = true;
   const Pose3 previous = FramePose(frames_.back());
   const Pose3 predicted = previous * last_motion_;
-  std::vector<int64_t> local = LocalMapPoints(frame.index);
+  const std::vector<int64_t> local = LocalMapPoints(frame.index);
+  // The last frame's own stereo points join the map's (step 3).
+  std::vector<int64_t> candidates = local;
+  for (size_t i = 0; i < last_frame_points_.size(); ++i) {
+    candidates.push_back(LastFramePointId(i));
+  }
   std::vector<Match> matches =
-      SearchByProjection(frame, predicted, local, config_.search_radius);
+      SearchByProjection(frame, predicted, candidates, config_.search_radius);
   result.matches = static_cast<int>(matches.size());
   Pose3 pose = predicted;
   int inliers = static_cast<int>(matches.size()) >= 6
@@ -639,7 +818,7 @@ StereoFrameResult StereoOdometry::AddFrame(const StereoFeatureFrame& frame) {
     // A second projection search from the refined pose finds the points the
     // prediction missed.
     std::vector<Match> more =
-        SearchByProjection(frame, pose, local, config_.search_radius / 2);
+        SearchByProjection(frame, pose, candidates, config_.search_radius / 2);
     if (more.size() > matches.size()) {
       Pose3 refined = pose;
       const int n = OptimizePose(frame, &more, &refined);
@@ -653,12 +832,12 @@ StereoFrameResult StereoOdometry::AddFrame(const StereoFeatureFrame& frame) {
   if (inliers < config_.min_inliers) {
     result.used_pnp = true;
     ++stats_.pnp_fallbacks;
-    std::vector<Match> candidates = SearchByDescriptor(frame, local);
+    std::vector<Match> by_descriptor = SearchByDescriptor(frame, local);
     Pose3 pnp_pose;
     inliers = 0;
-    if (PnpRansac(frame, candidates, &pnp_pose)) {
-      std::vector<Match> again =
-          SearchByProjection(frame, pnp_pose, local, config_.search_radius / 2);
+    if (PnpRansac(frame, by_descriptor, &pnp_pose)) {
+      std::vector<Match> again = SearchByProjection(frame, pnp_pose, candidates,
+                                                    config_.search_radius / 2);
       const int n = static_cast<int>(again.size()) >= 6
                         ? OptimizePose(frame, &again, &pnp_pose)
                         : 0;
@@ -679,6 +858,20 @@ StereoFrameResult StereoOdometry::AddFrame(const StereoFeatureFrame& frame) {
   result.inliers = inliers;
   last_motion_ = previous.Inverse() * pose;
   ++frames_since_keyframe_;
+  // Matches to the last frame's points serve its pose only (step 3).
+  const std::vector<Match> frame_matches = matches;
+  matches.erase(
+      std::remove_if(matches.begin(), matches.end(),
+                     [](const Match& m) { return IsLastFramePoint(m.point); }),
+      matches.end());
+  const int map_inliers = static_cast<int>(matches.size());
+  if (result.lost) {
+    chain_valid_ = false;
+  } else {
+    const FrameRecord& before = frames_.back();
+    ChainTracking(frame, frame_matches, previous, pose,
+                  keyframes_[before.keyframe].frame_index == before.index);
+  }
 
   // Step 6: keyframe decision.
   const Keyframe& last = keyframes_.back();
@@ -701,9 +894,10 @@ StereoFrameResult StereoOdometry::AddFrame(const StereoFeatureFrame& frame) {
     close_untracked += !tracked[i] && IsClose(frame, i);
   }
   const Pose3 from_last = KeyframePose(last_id).Inverse() * pose;
-  const bool need = inliers < config_.keyframe_tracked_ratio * last_points ||
-                    (result.close_tracked < config_.keyframe_close_tracked &&
-                     close_untracked > config_.keyframe_new_close);
+  const bool need =
+      map_inliers < config_.keyframe_tracked_ratio * last_points ||
+      (result.close_tracked < config_.keyframe_close_tracked &&
+       close_untracked > config_.keyframe_new_close);
   const bool make_keyframe =
       result.lost || frames_since_keyframe_ >= config_.keyframe_max_frames ||
       RotationAngle(from_last) > config_.keyframe_rotation ||
@@ -712,6 +906,7 @@ StereoFrameResult StereoOdometry::AddFrame(const StereoFeatureFrame& frame) {
   if (make_keyframe) {
     const auto ba_start = std::chrono::steady_clock::now();
     const int64_t id = AddKeyframe(frame, pose, matches, &result.new_points);
+    AddKeyframeOdometry(id);
     LocalBundleAdjustment(id);
     record.keyframe = id;
     record.keyframe_to_frame = Pose3();
@@ -722,6 +917,7 @@ StereoFrameResult StereoOdometry::AddFrame(const StereoFeatureFrame& frame) {
     record.keyframe = last_id;
     record.keyframe_to_frame = from_last;
   }
+  UpdateLastFramePoints(frame, pose, frame_matches, result.keyframe);
   frames_.push_back(record);
   return result;
 }

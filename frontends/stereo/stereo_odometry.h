@@ -8,7 +8,13 @@
 //  1. Prediction: the previous frame's pose composed with the last
 //     inter-frame motion (constant velocity; identity for the second frame).
 //  2. Local map: the points observed by the last local_map_keyframes
-//     keyframes.
+//     keyframes, and (track_last_frame), when the last frame is not a
+//     keyframe, its close stereo keypoints that no map point explains, as
+//     points for this frame's tracking only (ORB-SLAM2's visual-odometry
+//     points): without them a frame is tracked against points ever further
+//     from the keyframe that made them (two frames of travel doubled the
+//     pose error on KITTI 06), and the next keyframe shares few points with
+//     the last.
 //  3. Matching by projection: each local point, projected with the
 //     predicted pose, is matched to the frame's keypoint within
 //     search_radius pixels (times 1.2^octave of the keypoint) with the
@@ -21,8 +27,9 @@
 //     the matches with a Huber kernel, in pose_rounds rounds; after each
 //     round every match is classified by the chi2 test of its whitened
 //     error (chi2_stereo for 3 dof, chi2_mono for 2) and only inliers
-//     enter the next round (ORB-SLAM's PoseOptimization). Pixel noise:
-//     pixel_sigma * 1.2^octave. Close and far (ORB-SLAM2's stereo rule): a
+//     enter the next round (ORB-SLAM's PoseOptimization). Noise: the
+//     keypoint pixel_sigma * 1.2^octave, the disparity disparity_sigma
+//     (StereoInformation). Close and far (ORB-SLAM2's stereo rule): a
 //     stereo keypoint deeper than close_depth_baselines baselines is a
 //     monocular observation everywhere (tracking and bundle adjustment), as
 //     its disparity, a few pixels, tells the depth only to within its
@@ -51,11 +58,19 @@
 //     observes, or when fewer than keyframe_close_tracked close points are
 //     tracked while more than keyframe_new_close close stereo keypoints
 //     could be added (new structure).
-//  7. Keyframe: its inlier matches become factors; its stereo keypoints
-//     without a map point (closer than the feature extractor's depth limit)
-//     become new map points, triangulated from the stereo pair (the far ones
-//     unconfirmed, see step 4). A point
-//     that min_point_observations keyframes do not observe by the time
+//  7. Keyframe: its inlier matches become factors (those to the last
+//     frame's points do not: their keypoints become new points); with
+//     keyframe_odometry, the chain of trackings since the last keyframe
+//     (each frame's pose information from its matches, the points held:
+//     the map's for the frame after the keyframe, the last frame's points'
+//     for the others, composed to first order) becomes a relative-pose
+//     factor between the two keyframes (factors/between_se3.h), so that
+//     bundle adjustment does not override what the frames between them
+//     tracked with the few points the two keyframes share. Its stereo
+//     keypoints without a map point (closer than the feature extractor's
+//     depth limit) become new map points, triangulated from the stereo pair
+//     (the far ones unconfirmed, see step 4). A point that
+//     min_point_observations keyframes do not observe by the time
 //     cull_after_keyframes more keyframes exist is removed (an unconfirmed
 //     point: a wrong stereo match, or a feature that did not repeat).
 //  8. Local bundle adjustment over the last window_keyframes keyframes and
@@ -74,7 +89,13 @@
 //
 // Every frame keeps its pose relative to its reference keyframe (the last
 // keyframe when it was tracked), so that every frame gets a pose in the
-// output trajectory after the keyframes move.
+// output trajectory after the keyframes move; with keyframe_odometry, what
+// bundle adjustment changed in the next keyframe's pose against the
+// tracking chain is spread along the frames between the two by their share
+// of the frames (else the one step into the next keyframe takes all of it).
+//
+// Local BA (step 8) includes the relative-pose factors of step 7 between
+// the window's keyframes (the keyframe before the window held fixed).
 #ifndef SLAM_FRONTENDS_STEREO_STEREO_ODOMETRY_H_
 #define SLAM_FRONTENDS_STEREO_STEREO_ODOMETRY_H_
 
@@ -96,6 +117,13 @@ struct StereoOdometryConfig {
   // much between views; the whitened residuals of the KITTI excerpt have an
   // RMS near 0.3 px.
   double pixel_sigma = 0.5;
+  // Disparity noise, pixels at every octave: the disparity is refined on
+  // full-resolution patches (stereo_features.h step 3), whatever the
+  // octave of the keypoint, and u_R = u_L - d shares u_L's error
+  // (StereoInformation). Depth noise is then disparity_sigma z^2 / (fx b),
+  // growing with the square of the depth. Chosen on the KITTI 06 excerpt
+  // at half resolution (README).
+  double disparity_sigma = 0.5;
   double scale_factor = 1.2;   // Of the feature pyramid.
   double chi2_stereo = 7.815;  // 95 % of chi2 with 3 dof.
   double chi2_mono = 5.991;    // 95 % of chi2 with 2 dof.
@@ -122,6 +150,10 @@ struct StereoOdometryConfig {
   // between keyframes on the synthetic world, but on the KITTI 06 excerpt
   // it made the RPE worse (0.025 -> 0.052 m full, 0.052 -> 0.086 m half).
   bool refine_with_structure = false;
+  // Steps 2 and 7 (the last frame's points; the tracking chain as a
+  // factor between keyframes).
+  bool track_last_frame = true;
+  bool keyframe_odometry = true;
   // PnP-RANSAC fallback.
   double pnp_reprojection_error = 3.0;  // Pixels.
   int pnp_iterations = 300;
@@ -147,6 +179,12 @@ struct StereoOdometryConfig {
 
 bool ValidateStereoOdometryConfig(const StereoOdometryConfig& config,
                                   std::string* error);
+
+// The information matrix of a stereo measurement (u_L, u_R, v)
+// (factors/stereo_projection.h) whose keypoint (u_L, v) has noise
+// pixel_sigma on each axis and whose disparity d = u_L - u_R has
+// disparity_sigma, independent of it: u_R shares u_L's error.
+Eigen::Matrix3d StereoInformation(double pixel_sigma, double disparity_sigma);
 
 // What happened to one frame.
 struct StereoFrameResult {
@@ -251,6 +289,9 @@ class StereoOdometry {
     StereoFeatureFrame features;
     std::vector<int64_t> point_of_keypoint;  // -1: none.
     std::vector<int64_t> created_points;
+    // The tracking from the previous keyframe (keyframe_odometry).
+    bool has_chain = false;
+    Pose3 chain_from_previous;
   };
   struct FrameRecord {
     int64_t index = 0;
@@ -264,6 +305,40 @@ class StereoOdometry {
     int distance;
   };
 
+  // A stereo keypoint of the last frame (when it is not a keyframe) that
+  // no map point explains: a point for the next frame's tracking only.
+  struct LastFramePoint {
+    Eigen::Vector3d position;  // World frame.
+    cv::Mat descriptor;        // 1 x 32 (a row of the frame's).
+  };
+  // Match::point of a last-frame point: -2 - its index (-1 means none).
+  static bool IsLastFramePoint(int64_t point) { return point <= -2; }
+  static int64_t LastFramePointId(size_t index) {
+    return -2 - static_cast<int64_t>(index);
+  }
+  static size_t LastFramePointIndex(int64_t point) {
+    return static_cast<size_t>(-2 - point);
+  }
+  // A map point or a last-frame point.
+  Eigen::Vector3d Position(int64_t point) const;
+  const cv::Mat& Descriptor(int64_t point) const;
+  void UpdateLastFramePoints(const StereoFeatureFrame& frame, const Pose3& pose,
+                             const std::vector<Match>& matches, bool keyframe);
+  // Keypoint i (with stereo) in its camera's frame.
+  Eigen::Vector3d StereoPoint(const StereoFeatureFrame& frame, size_t i) const;
+  using Matrix6 = Eigen::Matrix<double, 6, 6>;
+  // The pose information (over the SE(3) manifold's tangent) of the
+  // frame's matches at `pose`, the points held; only the last frame's
+  // points' with last_frame_only.
+  void TrackingInformation(const StereoFeatureFrame& frame,
+                           const std::vector<Match>& matches, const Pose3& pose,
+                           bool last_frame_only, Matrix6* information) const;
+  // Extends the tracking chain from the last keyframe by this frame.
+  void ChainTracking(const StereoFeatureFrame& frame,
+                     const std::vector<Match>& matches, const Pose3& previous,
+                     const Pose3& pose, bool after_keyframe);
+  // The chain as a relative-pose factor from keyframe id - 1 to id.
+  void AddKeyframeOdometry(int64_t id);
   Pose3 FramePose(const FrameRecord& record) const;
   Eigen::Vector3d PointValue(int64_t point) const;
   std::vector<int64_t> LocalMapPoints(int64_t frame_index);
@@ -310,6 +385,13 @@ class StereoOdometry {
   void RemoveDeadPoints();
   std::vector<FrameRecord> frames_;
   Pose3 last_motion_;  // T_prev^-1 T_current.
+  std::vector<LastFramePoint> last_frame_points_;
+  // The tracking from the last keyframe to the current frame: relative
+  // pose and its covariance (tangent of the right perturbation).
+  bool chain_valid_ = false;
+  Pose3 chain_;
+  Matrix6 chain_covariance_ = Matrix6::Zero();
+  std::vector<FactorId> odometry_factor_;  // Per keyframe; -1: none.
   int frames_since_keyframe_ = 0;
   StereoOdometryStats stats_;
 };

@@ -91,9 +91,14 @@ StereoSimulation SimulateStereo(const StereoSimulationConfig& c) {
       double v = cal.fy * pc.y() / pc.z() + cal.cy;
       double ur = cal.fx * (pc.x() - cal.baseline) / pc.z() + cal.cx;
       if (u < 0 || v < 0 || u > c.width - 1 || v > c.height - 1) continue;
+      const double true_disparity = u - ur;
       u += c.pixel_sigma * noise(rng);
       v += c.pixel_sigma * noise(rng);
-      ur += c.pixel_sigma * noise(rng);
+      if (c.disparity_sigma >= 0) {
+        ur = u - (true_disparity + c.disparity_sigma * noise(rng));
+      } else {
+        ur += c.pixel_sigma * noise(rng);
+      }
       double disparity = u - ur + c.disparity_bias;
       if (c.disparity_quantum > 0) {
         disparity =

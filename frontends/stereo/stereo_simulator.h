@@ -14,8 +14,11 @@
 // descriptor_flips random bits of it (views differ a little).
 // Keypoints: the projections of points in front of the camera (depth in
 // [min_depth, max_depth]) inside the image, plus Gaussian pixel noise of
-// pixel_sigma (u, v and the right image's u independently); the octave is
-// 0. Stereo u_right is given when the disparity is at least 1 pixel.
+// pixel_sigma (u, v and the right image's u independently; or, with
+// disparity_sigma >= 0, u and v, and the disparity with disparity_sigma: the
+// right u then shares the left u's error, as with a disparity measured by
+// patch alignment around the keypoint); the octave is 0. Stereo u_right
+// is given when the disparity is at least 1 pixel.
 // Disparity errors as a stereo matcher makes them (after the pixel noise):
 // a systematic disparity_bias (pixels added to every disparity: a sub-pixel
 // interpolation bias, or a small offset between the rectified images) and a
@@ -54,6 +57,7 @@ struct StereoSimulationConfig {
   double min_height = -4.0, max_height = 2.0;
   double min_depth = 1.0, max_depth = 60.0;
   double pixel_sigma = 0.0;
+  double disparity_sigma = -1.0;  // Pixels; < 0: see above.
   double disparity_bias = 0.0;     // Pixels.
   double disparity_quantum = 0.0;  // Pixels; 0: not quantized.
   int descriptor_flips = 4;
