@@ -127,7 +127,8 @@ StereoSimulation SimulateStereo(const StereoSimulationConfig& c) {
       if (unit(rng) < c.outlier_fraction) {
         const double su = unit(rng) * (c.width - 1);
         const double sd = 1.0 + unit(rng) * 40.0;
-        add(su, unit(rng) * (c.height - 1), su - sd >= 0 ? su - sd : -1.0, d,
+        add(su, unit(rng) * (c.height - 1),
+            su - sd >= 0 ? su - sd : StereoFeatureFrame::kNoRightCoordinate, d,
             -1, true);
       }
     }
