@@ -181,9 +181,11 @@ def main():
                 "target_s": "%.2f" % target if target else "",
                 "solve_s": "%.3f" % report["solve_seconds"],
                 "certify_s": "%.3f" % certificate["seconds"]
-                             if certificate else "",
-                "certified": ("yes" if certificate["certified"] else "NO")
-                             if certificate else "",
+                             if certificate and "seconds" in certificate
+                             else "",
+                "certified": ("yes" if certificate["certified"] else
+                              "n/a" if "not_available" in certificate else
+                              "NO") if certificate else "",
                 "g2o_s": "%.3f" % g2o_s if g2o_s is not None else "",
                 "ok": "yes" if ok_chi2 and ok_time and ok_it else
                       ("CHI2" if not ok_chi2 else
