@@ -345,10 +345,9 @@ int RunOptimizeCommand(const std::vector<std::string>& args) {
         .Add("write_seconds", write_seconds)
         .Add("total_seconds", total_seconds);
     JsonObject breakdown;
-    const double accounted = summary.preprocess_seconds +
-                             summary.residual_seconds +
-                             summary.jacobian_seconds +
-                             summary.linear_solver_seconds;
+    const double accounted =
+        summary.preprocess_seconds + summary.residual_seconds +
+        summary.jacobian_seconds + summary.linear_solver_seconds;
     const int per = std::max(summary.iterations, 1);
     breakdown.Add("preprocess_seconds", summary.preprocess_seconds)
         .Add("residual_seconds", summary.residual_seconds)

@@ -859,9 +859,12 @@ bool CertifyRotations(const IsotropicProblem& p, const SpMat& m,
     return false;
   }
   // Shift-and-invert Lanczos at sigma < lambda_min: the eigenvalue nearest
-  // to sigma is lambda_min.
+  // to sigma is lambda_min. It is far apart from the rest of the
+  // spectrum of (S - sigma I)^-1 (sigma is next to it): 8 Lanczos vectors
+  // converge in about as many solves as 20 did in 21 (city10000's
+  // eigenvalue search 0.25-0.29 s against 0.33-0.43 s, loaded machine).
   const int size = d * n;
-  const int ncv = std::min(size, 20);
+  const int ncv = std::min(size, 8);
   Spectra::SymEigsShiftSolver<ShiftedCertificateOp> eigs(op, 1, ncv, sigma);
   eigs.init();
   eigs.compute(Spectra::SortRule::LargestMagn, 1000, 1e-10);
