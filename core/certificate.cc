@@ -861,8 +861,8 @@ bool CertifyRotations(const IsotropicProblem& p, const SpMat& m,
   // Shift-and-invert Lanczos at sigma < lambda_min: the eigenvalue nearest
   // to sigma is lambda_min. It is far apart from the rest of the
   // spectrum of (S - sigma I)^-1 (sigma is next to it): 8 Lanczos vectors
-  // converge in about as many solves as 20 did in 21 (city10000's
-  // eigenvalue search 0.25-0.29 s against 0.33-0.43 s, loaded machine).
+  // suffice (city10000's eigenvalue search 0.25-0.29 s against 0.33-0.43 s
+  // with 20, which took 21 solves; loaded machine).
   const int size = d * n;
   const int ncv = std::min(size, 8);
   Spectra::SymEigsShiftSolver<ShiftedCertificateOp> eigs(op, 1, ncv, sigma);
