@@ -1,4 +1,5 @@
 // slam optimize: read a pose graph, initialize, optimize, write the result.
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -343,6 +344,20 @@ int RunOptimizeCommand(const std::vector<std::string>& args) {
         .Add("solve_seconds", summary.solve_seconds)
         .Add("write_seconds", write_seconds)
         .Add("total_seconds", total_seconds);
+    JsonObject breakdown;
+    const double accounted =
+        summary.preprocess_seconds + summary.residual_seconds +
+        summary.jacobian_seconds + summary.linear_solver_seconds;
+    const int per = std::max(summary.iterations, 1);
+    breakdown.Add("preprocess_seconds", summary.preprocess_seconds)
+        .Add("residual_seconds", summary.residual_seconds)
+        .Add("jacobian_seconds", summary.jacobian_seconds)
+        .Add("linear_solver_seconds", summary.linear_solver_seconds)
+        .Add("other_seconds", std::max(summary.solve_seconds - accounted, 0.0))
+        .Add("jacobian_seconds_per_iteration", summary.jacobian_seconds / per)
+        .Add("linear_solver_seconds_per_iteration",
+             summary.linear_solver_seconds / per);
+    report.Add("solve_breakdown", breakdown);
     if (num_points > 0) report.Add("landmarks", num_points);
     if (pixels_before.factors > 0) {
       report.Add("reprojection_rms_before", pixels_before.rms)

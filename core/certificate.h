@@ -128,11 +128,25 @@ Eigen::MatrixXd DenseCertificateMatrix(const Eigen::SparseMatrix<double>& M,
 int RefineIsotropic(const IsotropicProblem& p, int max_iterations,
                     Eigen::MatrixXd* Y);
 
-// Rank d only: Riemannian Newton steps on f (translations and rotations,
-// node 0 held; the exact Hessian, with the curvature term of the rotations'
-// retraction that Gauss-Newton leaves out and without which it converges
-// only linearly), with backtracking. Returns the iterations, or -1 when
-// the Newton system cannot be solved (far from a minimum).
+// Rank d only, in the variables of NewtonRefine (per node 1..n-1: its
+// translation, then its rotation's tangent W_i in the generators' basis,
+// retraction R_i Exp(W_i); node 0 held): f(Retract(y, w)) = f(y) + 2 g^T w
+// + w^T H w + O(|w|^3). H is the exact Hessian of that pullback.
+void IsotropicNewtonSystem(const IsotropicProblem& p,
+                           const Eigen::SparseMatrix<double>& m,
+                           const Eigen::MatrixXd& y,
+                           Eigen::SparseMatrix<double>* hessian,
+                           Eigen::VectorXd* gradient);
+Eigen::MatrixXd RetractIsotropic(const IsotropicProblem& p,
+                                 const Eigen::MatrixXd& y,
+                                 const Eigen::VectorXd& step);
+
+// Rank d only: Riemannian Newton steps on f (rotations, node 0 held; the
+// exact Hessian of IsotropicNewtonSystem, tested against finite
+// differences), the translations kept optimal for the rotations (variable
+// projection: Newton on min_t f(t, R)), with backtracking. Returns the
+// iterations, or -1 when the Newton system cannot be solved (far from a
+// minimum).
 int NewtonRefine(const IsotropicProblem& p,
                  const Eigen::SparseMatrix<double>& m, int max_iterations,
                  Eigen::MatrixXd* y);

@@ -561,10 +561,17 @@ OptimizerSummary Optimize(Graph* graph, const OptimizerOptions& options,
   if (probe_allowed) solver_options.callbacks.push_back(&watcher);
 
   ceres::Solver::Summary ceres_summary;
+  const auto add_times = [&summary](const ceres::Solver::Summary& s) {
+    summary.preprocess_seconds += s.preprocessor_time_in_seconds;
+    summary.residual_seconds += s.residual_evaluation_time_in_seconds;
+    summary.jacobian_seconds += s.jacobian_evaluation_time_in_seconds;
+    summary.linear_solver_seconds += s.linear_solver_time_in_seconds;
+  };
   {
     const SerialOpenMpScope serial_openmp;
     ceres::Solve(solver_options, &problem, &ceres_summary);
   }
+  add_times(ceres_summary);
   int iterations = static_cast<int>(ceres_summary.iterations.size()) - 1;
   if (watcher.first_steps_rejected()) {
     std::vector<double*> free_blocks;
@@ -609,6 +616,7 @@ OptimizerSummary Optimize(Graph* graph, const OptimizerOptions& options,
         solver_options.callbacks.end());
     const SerialOpenMpScope serial_openmp;
     ceres::Solve(solver_options, &problem, &ceres_summary);
+    add_times(ceres_summary);
     iterations += probe.iterations +
                   static_cast<int>(ceres_summary.iterations.size()) - 1;
   }

@@ -107,6 +107,15 @@ struct OptimizerSummary {
   bool converged = false;           // Stopped on a convergence test.
   bool usable = false;  // Result usable (converged or hit the limit).
   double solve_seconds = 0.0;
+  // Where solve_seconds went, from Ceres' Solver::Summary summed over its
+  // runs: Ceres' preprocessing (problem reduction, symbolic analysis),
+  // evaluation of the residuals and of the Jacobians, and the linear
+  // solver (factorization and solves). The rest of solve_seconds is the
+  // ordering analysis, the Gauss-Newton probe, callbacks and chi2.
+  double preprocess_seconds = 0.0;
+  double residual_seconds = 0.0;
+  double jacobian_seconds = 0.0;
+  double linear_solver_seconds = 0.0;
   std::string linear_solver;         // What was used.
   std::string linear_solver_reason;  // Why, when "auto" chose by the graph.
   std::string ordering;              // Elimination ordering used.

@@ -46,7 +46,9 @@ COLUMNS = [
     ("rel_gap", "rel. gap"), ("iterations", "iterations"),
     ("max_iterations", "max it."),
     ("median_s", "median s"), ("target_s", "target s"),
-    ("solve_s", "solve s"), ("certify_s", "certify s"),
+    ("solve_s", "solve s"), ("jacobian_s", "of which Jacobians s"),
+    ("linear_s", "linear solver s"), ("library", "sparse library"),
+    ("certify_s", "certify s"),
     ("certified", "certified"), ("g2o_s", "g2o s"), ("ok", "ok"),
 ]
 
@@ -180,10 +182,19 @@ def main():
                 "median_s": "%.3f" % median,
                 "target_s": "%.2f" % target if target else "",
                 "solve_s": "%.3f" % report["solve_seconds"],
+                "jacobian_s": "%.3f" % report["solve_breakdown"][
+                    "jacobian_seconds"] if "solve_breakdown" in report
+                    else "",
+                "linear_s": "%.3f" % report["solve_breakdown"][
+                    "linear_solver_seconds"] if "solve_breakdown" in report
+                    else "",
+                "library": report.get("sparse_library", ""),
                 "certify_s": "%.3f" % certificate["seconds"]
-                             if certificate else "",
-                "certified": ("yes" if certificate["certified"] else "NO")
-                             if certificate else "",
+                             if certificate and "seconds" in certificate
+                             else "",
+                "certified": ("yes" if certificate["certified"] else
+                              "n/a" if "not_available" in certificate else
+                              "NO") if certificate else "",
                 "g2o_s": "%.3f" % g2o_s if g2o_s is not None else "",
                 "ok": "yes" if ok_chi2 and ok_time and ok_it else
                       ("CHI2" if not ok_chi2 else
