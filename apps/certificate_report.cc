@@ -39,7 +39,11 @@ bool CertifyIfAsked(Graph* graph, const OptimizerOptions& options,
     *error = "--global '" + FLAGS_global + "' is not auto or off";
     return false;
   }
-  const CertificateOptions certificate_options;
+  CertificateOptions certificate_options;
+  certificate_options.progress = [](const std::string& line) {
+    std::printf("%s\n", line.c_str());
+    std::fflush(stdout);
+  };
   CertificateResult c;
   if (!CertifyGraph(*graph, certificate_options, &c, error)) {
     // Graphs the certificate does not cover (landmarks, priors, ...) keep

@@ -940,8 +940,15 @@ bool SolveIsotropicGlobally(Graph* graph, const CertificateOptions& options,
     return false;
   }
   int factorizations = result->factorizations;
+  auto report = [&](const std::string& line) {
+    if (options.progress) options.progress(line);
+  };
   for (int r = d + 1; !result->certified && r <= d + options.max_rank_increase;
        ++r) {
+    report("staircase: rank " + std::to_string(r - 1) +
+           " not certified (lambda_min " + std::to_string(result->lambda_min) +
+           "), descending at rank " + std::to_string(r) + " (" +
+           std::to_string(SecondsSince(start)) + " s)");
     // Lift to rank r (a zero row) and descend along the new row set to the
     // eigenvector of lambda_min: second-order decrease lambda_min alpha^2.
     Eigen::MatrixXd yr = Eigen::MatrixXd::Zero(r, d * n);
@@ -968,7 +975,12 @@ bool SolveIsotropicGlobally(Graph* graph, const CertificateOptions& options,
     }
     y.resize(r, n + d * n);
     y << OptimalTranslations(b, best), best;
-    refine_iterations += RefineIsotropic(p, options.max_refine_iterations, &y);
+    const int iterations =
+        RefineIsotropic(p, options.max_refine_iterations, &y);
+    refine_iterations += iterations;
+    report("staircase: rank " + std::to_string(r) + " refined in " +
+           std::to_string(iterations) + " iterations (" +
+           std::to_string(SecondsSince(start)) + " s)");
     if (!CertifyRotations(p, m, y.rightCols(d * n), options, result, error)) {
       return false;
     }

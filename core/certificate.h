@@ -29,6 +29,7 @@
 #ifndef SLAM_CORE_CERTIFICATE_H_
 #define SLAM_CORE_CERTIFICATE_H_
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -87,6 +88,10 @@ struct CertificateOptions {
   int max_refine_iterations = 100;
   // Staircase: ranks d+1 .. d + max_rank_increase.
   int max_rank_increase = 3;
+  // Called with one line per stage of the staircase (a rank refined can
+  // take minutes on a large 3D graph: torus3D from its file guess); may be
+  // empty.
+  std::function<void(const std::string&)> progress;
 };
 
 struct CertificateResult {
