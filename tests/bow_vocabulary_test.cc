@@ -79,6 +79,42 @@ TEST(VocabularyTest, TrainingRecoversSyntheticClusters) {
   for (WordId w = 0; w < voc.size(); ++w) EXPECT_EQ(voc.WordWeight(w), 0.0);
 }
 
+TEST(VocabularyTest, WordCentresAreTheMajorityVoteOfLargeClusters) {
+  // Two clusters of 700 members each (more than the 255 a byte counter of
+  // the majority vote holds before it is flushed), 60 of 256 bits flipped:
+  // every bit is flipped in about 23 % of a cluster, so the per-bit majority
+  // is the true centre. The word descriptors are read back from the binary
+  // file (after its header: per node uint32 parent, float64 weight, 32
+  // bytes).
+  std::mt19937 rng(5);
+  const std::vector<Descriptor> centres = {RandomDescriptor(&rng),
+                                           RandomDescriptor(&rng)};
+  std::vector<cv::Mat> images;
+  for (int image = 0; image < 7; ++image) {
+    std::vector<Descriptor> d;
+    for (int c = 0; c < 2; ++c)
+      for (int m = 0; m < 100; ++m) d.push_back(Perturb(centres[c], 60, &rng));
+    images.push_back(ToMat(d));
+  }
+  Vocabulary voc;
+  std::string error;
+  VocabularyTrainingOptions options;
+  options.k = 2;
+  options.levels = 1;
+  ASSERT_TRUE(voc.Train(images, options, &error)) << error;
+  ASSERT_EQ(voc.size(), 2u);
+  const std::string bytes = voc.SerializeBinary();
+  constexpr size_t kHeader = 8 + 4 * 4, kNode = 4 + 8 + kDescriptorBytes;
+  ASSERT_EQ(bytes.size(), kHeader + 2 * kNode);
+  std::vector<Descriptor> words(2);
+  for (int w = 0; w < 2; ++w)
+    std::memcpy(words[w].data(), bytes.data() + kHeader + w * kNode + 12,
+                kDescriptorBytes);
+  if (words[0] != centres[0]) std::swap(words[0], words[1]);
+  EXPECT_EQ(words[0], centres[0]);
+  EXPECT_EQ(words[1], centres[1]);
+}
+
 TEST(VocabularyTest, TwoLevelTreeSplitsGroupsThenClusters) {
   // 3 groups of 3 clusters: the first level must separate the groups (their
   // members differ by ~128 bits), the second the clusters inside a group

@@ -9,6 +9,7 @@
 
 #include <zlib.h>
 
+#include <opencv2/core/hal/hal.hpp>
 #include <opencv2/core/persistence.hpp>
 
 #include "datasets/atomic_file.h"
@@ -122,16 +123,43 @@ bool CheckShape(int k, int levels, uint64_t num_nodes, const std::string& where,
 }
 
 // The majority-vote centre of a set of binary descriptors: each bit is set
-// when more than half of the descriptors have it set.
-Descriptor MajorityCentre(const std::vector<const uint8_t*>& members) {
-  std::array<int, kDescriptorBytes * 8> ones{};
-  for (const uint8_t* d : members) {
-    for (int byte = 0; byte < kDescriptorBytes; ++byte) {
-      const uint8_t value = d[byte];
-      for (int bit = 0; bit < 8; ++bit)
-        ones[byte * 8 + bit] += (value >> bit) & 1;
+// when more than half of the descriptors have it set. The bits are counted
+// eight at a time: kSpreadBits[v] holds bit b of v in byte b, so adding it
+// to a 64-bit word counts the 8 bits of one descriptor byte at once (a byte
+// counter holds 255: flushed every 255 descriptors). Counting bit by bit
+// made the vocabulary training the largest cost of a short run after the
+// frames (0.5 of 1 s on the KITTI 06 excerpt's keyframes).
+constexpr std::array<uint64_t, 256> SpreadBits() {
+  std::array<uint64_t, 256> table{};
+  for (int v = 0; v < 256; ++v) {
+    for (int bit = 0; bit < 8; ++bit) {
+      if ((v >> bit) & 1) table[v] |= uint64_t{1} << (8 * bit);
     }
   }
+  return table;
+}
+constexpr std::array<uint64_t, 256> kSpreadBits = SpreadBits();
+
+Descriptor MajorityCentre(const std::vector<const uint8_t*>& members) {
+  std::array<int, kDescriptorBytes * 8> ones{};
+  std::array<uint64_t, kDescriptorBytes> packed{};
+  auto flush = [&]() {
+    for (int byte = 0; byte < kDescriptorBytes; ++byte) {
+      for (int bit = 0; bit < 8; ++bit)
+        ones[byte * 8 + bit] += (packed[byte] >> (8 * bit)) & 0xff;
+      packed[byte] = 0;
+    }
+  };
+  int pending = 0;
+  for (const uint8_t* d : members) {
+    for (int byte = 0; byte < kDescriptorBytes; ++byte)
+      packed[byte] += kSpreadBits[d[byte]];
+    if (++pending == 255) {
+      flush();
+      pending = 0;
+    }
+  }
+  flush();
   Descriptor centre{};
   const size_t half = members.size() / 2;
   for (int byte = 0; byte < kDescriptorBytes; ++byte) {
@@ -226,14 +254,9 @@ void AppendScalar(std::string* out, T value) {
 }  // namespace
 
 int HammingDistance(const uint8_t* a, const uint8_t* b) {
-  int distance = 0;
-  for (int i = 0; i < kDescriptorBytes; i += 8) {
-    uint64_t x, y;
-    std::memcpy(&x, a + i, 8);
-    std::memcpy(&y, b + i, 8);
-    distance += __builtin_popcountll(x ^ y);
-  }
-  return distance;
+  // OpenCV's SIMD count (__builtin_popcountll is a libgcc call without
+  // -mpopcnt, which the build cannot assume).
+  return cv::hal::normHamming(a, b, kDescriptorBytes);
 }
 
 double ScoreL1(const BowVector& a, const BowVector& b) {
