@@ -183,5 +183,55 @@ TEST(StereoFeaturesTest, KeypointsOfEveryOctaveMoveWithTheImage) {
   EXPECT_GT(e.corners[4], 300);
 }
 
+// Only the corners the grid bucketing keeps are described (ORB's compute()
+// on them, which groups them by pyramid level): every kept keypoint must
+// carry the descriptor detectAndCompute gives the same corner, the
+// strongest first.
+TEST(StereoFeaturesTest, KeptCornersCarryOrbsOwnDescriptors) {
+  std::mt19937 rng(3);
+  const cv::Mat image =
+      View(RenderWorld(640, 185, 9), 0.0, 613, 185, 2.0, &rng);
+  StereoFeatureConfig config;
+  const StereoCalibration calibration{353.5, 353.5, 306.0, 92.0, 0.54};
+  const StereoFeatureExtractor extractor(config, calibration);
+  std::vector<cv::KeyPoint> keypoints;
+  cv::Mat descriptors;
+  extractor.DetectAndDescribe(image, &keypoints, &descriptors);
+  auto orb = cv::ORB::create(2 * config.max_features,
+                             static_cast<float>(config.scale_factor),
+                             config.levels, 19, 0, 2, cv::ORB::HARRIS_SCORE, 31,
+                             config.fast_threshold);
+  std::vector<cv::KeyPoint> all;
+  cv::Mat all_descriptors;
+  orb->detectAndCompute(image, cv::noArray(), all, all_descriptors);
+  ASSERT_GT(keypoints.size(), 100u);
+  ASSERT_LT(keypoints.size(), all.size());  // The bucketing dropped some.
+  ASSERT_EQ(descriptors.rows, static_cast<int>(keypoints.size()));
+  int octaves_seen = 0;
+  std::vector<bool> octave_seen(config.levels, false);  // Levels < 8.
+  for (size_t k = 0; k < keypoints.size(); ++k) {
+    if (k > 0) {
+      EXPECT_GE(keypoints[k - 1].response, keypoints[k].response);
+    }
+    // The same corner: octave, Harris response and angle (the position is
+    // moved to the level's pixel centres).
+    int found = -1;
+    for (size_t j = 0; j < all.size() && found < 0; ++j) {
+      if (all[j].octave == keypoints[k].octave &&
+          all[j].response == keypoints[k].response &&
+          all[j].angle == keypoints[k].angle)
+        found = static_cast<int>(j);
+    }
+    ASSERT_GE(found, 0) << "keypoint " << k;
+    EXPECT_EQ(cv::norm(descriptors.row(static_cast<int>(k)),
+                       all_descriptors.row(found), cv::NORM_HAMMING),
+              0.0)
+        << "keypoint " << k << " at octave " << keypoints[k].octave;
+    if (!octave_seen[keypoints[k].octave]) ++octaves_seen;
+    octave_seen[keypoints[k].octave] = true;
+  }
+  EXPECT_GE(octaves_seen, 3);  // Corners of several levels, mixed.
+}
+
 }  // namespace
 }  // namespace slam
