@@ -7,7 +7,8 @@ over one frame (as `slam eval` computes them against the sequence's
 poses.txt; empty without ground truth), keyframes, the median and p95
 milliseconds per frame of the whole pipeline and the median of each stage
 (features, stereo matching, tracking, local BA), and the wall time of the
-whole run (start to exit, vocabulary and global BA included) per frame.
+whole run (start to exit, vocabulary and global BA included) per frame and
+its ratio to the run's median per frame (the issue's bound: at most 2).
 
 Sequences (under --datasets): stereo_kitti06_full (the KITTI 06 excerpt at
 its original resolution; odometry layout) and
@@ -50,6 +51,7 @@ COLUMNS = [
     ("features_ms", "features"), ("matching_ms", "stereo matching"),
     ("tracking_ms", "tracking"), ("local_ba_ms", "local BA"),
     ("wall_ms", "whole run ms/frame"),
+    ("wall_ratio", "whole run / median"),
 ]
 
 SEQUENCES = [("KITTI 06 excerpt", "stereo_kitti06_full"),
@@ -151,7 +153,7 @@ def benchmark(slam, config, sequence_dir, runs, tmp):
         f.write("\n".join(lines) + "\n")
     stats = {k: [] for k in ("median_ms", "p95_ms", "features_ms",
                              "matching_ms", "tracking_ms", "local_ba_ms",
-                             "wall_ms")}
+                             "wall_ms", "wall_ratio")}
     row = {}
     for i in range(runs):
         out = os.path.join(tmp, "out%d" % i)
@@ -170,6 +172,10 @@ def benchmark(slam, config, sequence_dir, runs, tmp):
         stats["tracking_ms"].append(t["tracking"]["median_ms"])
         stats["local_ba_ms"].append(t["local_ba"]["median_ms"])
         stats["wall_ms"].append(1000.0 * wall / frames)
+        # Per run, then the median: the run's own median per frame is the
+        # yardstick (the issue asks for at most 2), so the ratio holds on a
+        # machine whose speed drifts between runs.
+        stats["wall_ratio"].append(stats["wall_ms"][-1] / t["median_ms"])
         print("  run %d/%d: %.1f ms median per frame, %.1f ms wall per frame"
               % (i + 1, runs, t["median_ms"], stats["wall_ms"][-1]),
               file=sys.stderr)
