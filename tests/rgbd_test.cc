@@ -424,10 +424,10 @@ double TurningCameraStepErrorDeg(bool fixed_rate_capture) {
   auto truth = [](double t) {
     const double yaw = 0.45 * std::sin(2.0 * M_PI * t / 1.6);
     const double pitch = 0.12 * std::sin(2.0 * M_PI * t / 0.9);
-    return Pose3(Eigen::Vector3d(0.02 * std::sin(3.0 * t), 0, 0),
-                 Eigen::Quaterniond(
-                     Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitY()) *
-                     Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitX())));
+    return Pose3(
+        Eigen::Vector3d(0.02 * std::sin(3.0 * t), 0, 0),
+        Eigen::Quaterniond(Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitY()) *
+                           Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitX())));
   };
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
@@ -458,14 +458,14 @@ double TurningCameraStepErrorDeg(bool fixed_rate_capture) {
     for (size_t i = 0; i < points.size(); ++i) {
       const Eigen::Vector3d pc = pose.Inverse() * points[i];
       if (pc.z() < 0.3) continue;
-      const double u = camera.fx * pc.x() / pc.z() + camera.cx +
-                       0.3 * noise(rng);
-      const double v = camera.fy * pc.y() / pc.z() + camera.cy +
-                       0.3 * noise(rng);
+      const double u =
+          camera.fx * pc.x() / pc.z() + camera.cx + 0.3 * noise(rng);
+      const double v =
+          camera.fy * pc.y() / pc.z() + camera.cy + 0.3 * noise(rng);
       if (u < 0 || v < 0 || u > 639 || v > 479) continue;
       const double z = pc.z() + 0.0015 * pc.z() * pc.z() * noise(rng);
-      frame.keypoints.emplace_back(static_cast<float>(u),
-                                   static_cast<float>(v), 31.0f);
+      frame.keypoints.emplace_back(static_cast<float>(u), static_cast<float>(v),
+                                   31.0f);
       frame.keypoints.back().octave = 0;
       frame.u_right.push_back(VirtualRightU(u, z, calibration, rgbd));
       rows.push_back(static_cast<int>(i));
