@@ -17,6 +17,12 @@
 // at the capture instants to the stamps, interpolating between the two
 // neighbouring captures (linear in position, slerp in rotation) and
 // extrapolating the first or last interval's motion at the ends.
+//
+// Limits: a frame that arrives more than half a period late reads as a
+// dropped frame and shifts the counts after it; the residuals then exceed
+// a quarter period and the fit is refused (the stamps are used as they
+// are, as before). The line assumes the sensor's clock keeps a constant
+// rate against the PC's over the run.
 #ifndef SLAM_FRONTENDS_VISUAL_CAPTURE_CLOCK_H_
 #define SLAM_FRONTENDS_VISUAL_CAPTURE_CLOCK_H_
 
