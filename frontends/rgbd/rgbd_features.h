@@ -50,9 +50,16 @@ struct RgbdConfig {
   // which lets the depth tell the pose less than it can.
   double virtual_baseline = 0.34;  // m.
   double min_depth = 0.3;          // m; closer readings are not used.
-  // Farther keypoints are monocular (ORB-SLAM2: ThDepth 40 baselines,
-  // 3.1 m; the Kinect's depth error is about 4 cm at 3 m).
-  double max_depth = 3.2;  // m.
+  // Farther keypoints are monocular. The sensor's specified range (Kinect 1:
+  // 0.8-4 m); the noise model already weighs a far depth by z^-4
+  // (sigma_z 4.5 cm at 4 m). Not ORB-SLAM2's ThDepth (40 baselines, 3.1 m):
+  // ORB-SLAM2 keeps every depth reading as a measurement and uses ThDepth
+  // only to choose which points a keyframe creates. A limit inside the room
+  // starves the map when the camera faces its far end: a keypoint without
+  // depth makes no map point (TUM fr1/rpy frames 43-52 look at a wall
+  // 3.6-3.9 m away; with 3.2 m about half of their keypoints had no depth
+  // and the inliers fell from 150-300 to 64-116).
+  double max_depth = 4.0;  // m.
   // Depth discontinuities: a keypoint (a corner, often on an object's
   // outline) whose depth neighbourhood (+-depth_radius pixels) holds a
   // missing reading or depths differing by more than max_depth_step times
