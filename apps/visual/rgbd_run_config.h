@@ -11,6 +11,8 @@
 //     output_dir: out/tum_rgbd
 //     max_frames: 0             # associated frames; 0 = all
 //     max_time_difference: 0.02 # s, colour-depth association
+//     fixed_rate_capture: true  # stamps are arrival times of a fixed-rate
+//                               # camera (frontends/visual/capture_clock.h)
 //     camera: auto              # freiburg1 | freiburg2 | freiburg3 | custom
 //                               # | auto (the preset the folder name says)
 //     intrinsics: {fx, fy, cx, cy, k1, k2, p1, p2, k3}  # camera: custom

@@ -50,9 +50,16 @@ struct RgbdConfig {
   // which lets the depth tell the pose less than it can.
   double virtual_baseline = 0.34;  // m.
   double min_depth = 0.3;          // m; closer readings are not used.
-  // Farther keypoints are monocular (ORB-SLAM2: ThDepth 40 baselines,
-  // 3.1 m; the Kinect's depth error is about 4 cm at 3 m).
-  double max_depth = 3.2;  // m.
+  // Farther keypoints are monocular. The sensor's specified range (Kinect 1:
+  // 0.8-4 m); the noise model already weighs a far depth by z^-4
+  // (sigma_z 4.5 cm at 4 m). Not ORB-SLAM2's ThDepth (40 baselines, 3.1 m):
+  // ORB-SLAM2 keeps every depth reading as a measurement and uses ThDepth
+  // only to choose which points a keyframe creates. A limit inside the room
+  // starves the map when the camera faces its far end: a keypoint without
+  // depth makes no map point (TUM fr1/rpy frames 43-52 look at a wall
+  // 3.6-3.9 m away; with 3.2 m about half of their keypoints had no depth
+  // and the inliers fell from 150-300 to 64-116).
+  double max_depth = 4.0;  // m.
   // Depth discontinuities: a keypoint (a corner, often on an object's
   // outline) whose depth neighbourhood (+-depth_radius pixels) holds a
   // missing reading or depths differing by more than max_depth_step times
@@ -60,6 +67,14 @@ struct RgbdConfig {
   // pixel between them): it stays monocular. 0: no test.
   int depth_radius = 2;
   double max_depth_step = 0.03;
+  // The colour camera captures on its own fixed-rate clock (Kinect 1 /
+  // Xtion: 30 Hz) and the stamps are the driver's arrival times: poses are
+  // estimated at the capture instants fitted to the stamps and written at
+  // the stamps (frontends/visual/capture_clock.h). On TUM fr1/rpy the
+  // stamps jitter by 2.3 ms rms around a 33.301 ms clock, and taking the
+  // poses for those of the stamps cost 0.5 -> 0.38 deg of per-frame
+  // rotation error (README).
+  bool fixed_rate_capture = true;
 };
 
 bool ValidateRgbdConfig(const RgbdConfig& config, std::string* error);

@@ -41,6 +41,7 @@ class RgbdSequenceSource : public VisualFrameSource {
   bool Load(size_t k, VisualImages* images, std::string* error) const override;
   StereoFeatureFrame Extract(const VisualImages& images,
                              StereoFeatureTimings* timings) const override;
+  bool FixedRateCapture() const override { return config_.fixed_rate_capture; }
 
  private:
   const TumRgbdSequence* sequence_;

@@ -54,6 +54,12 @@ class VisualFrameSource {
   // (features_ms) and of the right-coordinate step (matching_ms).
   virtual StereoFeatureFrame Extract(const VisualImages& images,
                                      StereoFeatureTimings* timings) const = 0;
+  // True when the camera captures on a fixed-rate clock of its own and the
+  // stamps are arrival times (RGB-D: Kinect 1 / Xtion): the pipeline then
+  // takes each frame's pose as that of its capture instant and writes the
+  // trajectory at the stamps (capture_clock.h). A stereo pair's stamps are
+  // its capture times.
+  virtual bool FixedRateCapture() const { return false; }
 };
 
 }  // namespace slam

@@ -6,6 +6,9 @@
 #include <future>
 #include <sstream>
 #include <utility>
+#include <vector>
+
+#include "frontends/visual/capture_clock.h"
 
 namespace slam {
 namespace {
@@ -99,6 +102,14 @@ bool VisualSlam::Run(const VisualSlamCallbacks& callbacks,
   // Steps 5-6.
   odometry_->Finish();
   result->trajectory = odometry_->FrameTrajectory();
+  if (source_->FixedRateCapture()) {
+    std::vector<TimeNs> stamps;
+    for (const StampedPose& p : result->trajectory) stamps.push_back(p.stamp);
+    const CaptureClock clock = FitCaptureClock(stamps);
+    if (clock.fixed_rate) {
+      result->trajectory = PosesAtStamps(result->trajectory, clock.capture);
+    }
+  }
   result->map_points = odometry_->MapPoints();
   result->stats = odometry_->stats();
   return true;

@@ -18,7 +18,10 @@
 //     included (StereoOdometry::Finish, step 9).
 //  6. Results: every frame's camera pose, the map points, the per-frame
 //     timings by stage and the statistics (VisualSlamResult); the graph with
-//     its observations stays available (odometry()).
+//     its observations stays available (odometry()). A source with a
+//     fixed-rate capture clock under arrival stamps (FixedRateCapture: RGB-D)
+//     gets its poses, estimated at the capture instants, moved to the
+//     stamps (capture_clock.h); the graph keeps the stamps as they are.
 //
 // Nothing here reads files but the vocabulary (step 3) or writes any: the
 // caller (apps/visual/) reads flags and configs, reports and writes.
