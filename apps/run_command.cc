@@ -283,6 +283,13 @@ int RunRunCommand(const std::vector<std::string>& args) {
       "optimization %.2f, refinement %.2f)\n",
       Since(start), read_seconds, slam_seconds, s.matching_seconds,
       s.loop_seconds, s.optimization_seconds, s.refine_seconds);
+  std::printf(
+      "run: loop search %.2f s: submap targets %.2f, correlative %.2f, ICP "
+      "%.2f, chi2 tests %.2f, final pass %.2f; %d local candidates verified "
+      "from a recent closure\n",
+      s.loop_seconds, s.loop_target_seconds, s.loop_correlative_seconds,
+      s.loop_icp_seconds, s.loop_chi2_seconds, s.loop_final_seconds,
+      s.seeded_verifications);
   std::printf("run: wrote %s, %s\n", trajectory_path.c_str(),
               graph_path.c_str());
   if (log.scans_out_of_order > 0 || duplicate_stamps > 0) {

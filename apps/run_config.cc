@@ -25,12 +25,12 @@ Section IcpSection(IcpOptions* o) {
 }
 
 Section CorrelativeSection(CorrelativeOptions* o) {
-  return {
-      "correlative",
-      {D("resolution", &o->resolution), I("levels", &o->levels),
-       D("sigma", &o->sigma), D("window_xy", &o->window_xy),
-       D("window_theta", &o->window_theta), D("step_theta", &o->step_theta)},
-      {}};
+  return {"correlative",
+          {D("resolution", &o->resolution), I("levels", &o->levels),
+           D("sigma", &o->sigma), D("window_xy", &o->window_xy),
+           D("window_theta", &o->window_theta), D("step_theta", &o->step_theta),
+           D("max_evaluations", &o->max_evaluations)},
+          {}};
 }
 
 Section Schema(RunConfig* c) {
@@ -90,6 +90,7 @@ Section Schema(RunConfig* c) {
          I("place_max_closures", &s.loop_place_max_closures),
          D("anchored_path", &s.loop_anchored_path),
          D("optimize_min_correction", &s.loop_optimize_min_correction),
+         B("seeded_verification", &s.loop_seeded_verification),
          I("min_inliers", &s.loop_min_inliers),
          D("min_fitness", &s.loop_min_fitness),
          D("max_sigma", &s.loop_max_sigma),

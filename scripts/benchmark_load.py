@@ -67,6 +67,8 @@ def tail(path, lines=5):
 LASER_SUMMARY = re.compile(
     r"(\d+) scans, (\d+) keyframes.*loop closures: (\d+) proposed, "
     r"(\d+) accepted")
+# The loop search's wall time (s) in the run's time split.
+LASER_LOOPS = re.compile(r"run: time .* loops ([\d.]+),")
 
 
 def simulated_graph(slam, name, world_yaml, num_poses, work):
@@ -203,12 +205,18 @@ def laser_rows(slam, datasets, work):
                "cpu_s": cpu,
                "peak_gb": peak_gb}
         with open(log) as f:
-            summary = LASER_SUMMARY.search(f.read())
+            text = f.read()
+        summary = LASER_SUMMARY.search(text)
+        loops = LASER_LOOPS.search(text)
         if code != 0:
             row["result"] = "exit %d: %s" % (code, tail(log, 1))
         elif summary:
             row["result"] = ("%s scans, %s keyframes, loop closures %s "
                              "proposed, %s accepted" % summary.groups())
+            if loops:
+                row["result"] += ", loop search %s s (%.2f ms per scan)" % (
+                    loops.group(1),
+                    1000.0 * float(loops.group(1)) / int(summary.group(1)))
         rows.append(row)
     if len(rows) == 2 and rows[0].get("cpu_s") and rows[1].get("cpu_s"):
         rows[1]["result"] = "CPU %.2fx one pass (linear: 3x); %s" % (

@@ -114,15 +114,34 @@ TEST(ScanMatcherTest, CorrelativeBranchAndBoundEqualsExhaustiveSearch) {
 
 // A minimum score only prunes: below the best score the answer is the
 // same; above it, the search reports nothing (initial pose, score 0).
-TEST(ScanMatcherTest, CorrelativeMinimumScorePrunesWithoutChangingTheBest) {
-  Fixture f = MakeFixture(0.0, M_PI, 5);
-  const Pose2 guess = f.truth * Pose2(0.3, -0.2, 0.1);
+// A correlative search case: a guess 0.36 m and 0.1 rad from the truth, a
+// window covering it, and the exact search's best pose and score.
+struct CorrelativeCase {
+  Fixture f;
+  Pose2 guess;
   CorrelativeOptions c;
-  c.window_xy = 0.6;
-  c.window_theta = 0.2;
-  c.step_theta = 0.01;
+  Pose2 best;
   double score = 0.0;
-  const Pose2 best = f.target.Correlative(f.source, guess, c, &score);
+};
+
+CorrelativeCase MakeCorrelativeCase() {
+  CorrelativeCase t;
+  t.f = MakeFixture(0.0, M_PI, 5);
+  t.guess = t.f.truth * Pose2(0.3, -0.2, 0.1);
+  t.c.window_xy = 0.6;
+  t.c.window_theta = 0.2;
+  t.c.step_theta = 0.01;
+  t.best = t.f.target.Correlative(t.f.source, t.guess, t.c, &t.score);
+  return t;
+}
+
+TEST(ScanMatcherTest, CorrelativeMinimumScorePrunesWithoutChangingTheBest) {
+  CorrelativeCase t = MakeCorrelativeCase();
+  const Fixture& f = t.f;
+  const Pose2& guess = t.guess;
+  CorrelativeOptions& c = t.c;
+  const Pose2& best = t.best;
+  const double score = t.score;
   ASSERT_GT(score, 0.3);
   c.min_score = score - 0.1;
   double pruned_score = 0.0;
@@ -135,6 +154,32 @@ TEST(ScanMatcherTest, CorrelativeMinimumScorePrunesWithoutChangingTheBest) {
   EXPECT_EQ(pruned_score, 0.0);
   EXPECT_LT((none.t - guess.t).norm(), 1e-12);
   EXPECT_NEAR(none.theta, guess.theta, 1e-12);
+}
+
+// The work bound of the correlative search: a bound above what the search
+// needs leaves it exact; a bound the root level alone exceeds stops it
+// before any pose is scored (the initial pose, score 0); a bound in
+// between still returns a pose near the truth, from the branches it
+// explored first (the most promising).
+TEST(ScanMatcherTest, CorrelativeWorkBoundStopsTheSearch) {
+  CorrelativeCase t = MakeCorrelativeCase();
+  ASSERT_GT(t.score, 0.3);
+  const Points2& source = t.f.source;
+  double score = 0.0;
+  t.c.max_evaluations = 1e12;
+  const Pose2 bounded = t.f.target.Correlative(source, t.guess, t.c, &score);
+  EXPECT_NEAR(score, t.score, 1e-12);
+  EXPECT_LT((bounded.t - t.best.t).norm(), 1e-12);
+  t.c.max_evaluations = 1.0;
+  const Pose2 stopped = t.f.target.Correlative(source, t.guess, t.c, &score);
+  EXPECT_EQ(score, 0.0);
+  EXPECT_LT((stopped.t - t.guess.t).norm(), 1e-12);
+  // The roots (41 angles, 4 x 4 blocks of 8 x 8 offsets) and about a
+  // hundred descents.
+  t.c.max_evaluations = (41.0 * 16 + 100) * source.size();
+  const Pose2 early = t.f.target.Correlative(source, t.guess, t.c, &score);
+  EXPECT_GT(score, 0.5 * t.score);
+  EXPECT_LT((early.t - t.f.truth.t).norm(), 0.1);
 }
 
 TEST(ScanMatcherTest, IcpFailsWithoutOverlap) {

@@ -445,9 +445,35 @@ bool LaserSlam::DetectLoopClosures(int k) {
     CorrelativeOptions search = config_.loop_correlative;
     search.window_xy = std::max(search.window_xy, candidate.radius);
     const int j = candidate.index;
-    accepted |= VerifyLoop(k, j, KeyframePose(j).Inverse() * pose_k,
+    const Pose2 pose_j = KeyframePose(j);
+    // A closure accepted to the same place in the last
+    // loop_consistency_keyframes keyframes predicts where k lies in j's
+    // frame (through the current estimates of both neighbourhoods): ICP
+    // from that prediction verifies the candidate, and the correlative
+    // search runs only when it fails.
+    const LoopHypothesis* seed = nullptr;
+    if (config_.loop_seeded_verification && !anchored) {
+      for (const LoopHypothesis& o : hypotheses_) {
+        if (o.added && o.k != k &&
+            std::abs(o.j - j) <= config_.loop_submap_half_width &&
+            (seed == nullptr || o.k > seed->k)) {
+          seed = &o;
+        }
+      }
+    }
+    bool passed = false;
+    if (seed != nullptr) {
+      const Pose2 predicted = pose_j.Inverse() * KeyframePose(seed->j) *
+                              seed->z * KeyframePose(seed->k).Inverse() *
+                              pose_k;
+      ++stats_.seeded_verifications;
+      accepted |= VerifyLoop(k, j, predicted, nullptr, false, query,
+                             search_query, &significant, &passed);
+      if (passed) continue;
+    }
+    accepted |= VerifyLoop(k, j, pose_j.Inverse() * pose_k,
                            anchored ? nullptr : &search, false, query,
-                           search_query, &significant);
+                           search_query, &significant, &passed);
   }
   // Global search: the local searches have found nothing for
   // loop_global_min_path metres; the places outside their radius whose
@@ -506,8 +532,9 @@ bool LaserSlam::DetectLoopClosures(int k) {
           std::min(search.window_theta,
                    4.0 * M_PI / std::max(1, config_.loop_context.sectors));
       ++stats_.global_closures_proposed;
+      bool passed = false;
       VerifyLoop(k, place.index, Pose2(0.0, 0.0, place.rotation), &search, true,
-                 query, search_query, &significant);
+                 query, search_query, &significant, &passed);
     }
   }
   hypotheses_.erase(std::remove_if(hypotheses_.begin(), hypotheses_.end(),
@@ -522,7 +549,8 @@ bool LaserSlam::DetectLoopClosures(int k) {
 bool LaserSlam::VerifyLoop(int k, int j, const Pose2& guess,
                            const CorrelativeOptions* search, bool global,
                            const Points2& query, const Points2& search_query,
-                           bool* significant) {
+                           bool* significant, bool* passed) {
+  *passed = false;
   const Pose2 pose_k = KeyframePose(k);
   const Pose2 pose_j = KeyframePose(j);
   const Points2 submap =
@@ -530,9 +558,11 @@ bool LaserSlam::VerifyLoop(int k, int j, const Pose2& guess,
                     std::min(k - config_.submap_keyframes,
                              j + config_.loop_submap_half_width),
                     pose_j.Inverse());
+  auto clock = std::chrono::steady_clock::now();
   MatchTarget target;
   target.Build(VoxelFilter(submap, config_.submap_voxel),
                config_.icp.max_correspondence_distance, config_.normal_radius);
+  stats_.loop_target_seconds += Seconds(clock);
   // The search on a sparser copy of the query (its cost is linear in the
   // points), ICP on the whole query.
   // Without a search (anchored), ICP alone may only correct the guess
@@ -545,10 +575,14 @@ bool LaserSlam::VerifyLoop(int k, int j, const Pose2& guess,
     // rest, and a candidate where none does is not refined.
     CorrelativeOptions options = *search;
     options.min_score = std::max(options.min_score, config_.loop_min_score);
+    clock = std::chrono::steady_clock::now();
     coarse = target.Correlative(search_query, guess, options, &score);
+    stats_.loop_correlative_seconds += Seconds(clock);
     if (score < config_.loop_min_score) return false;
   }
+  clock = std::chrono::steady_clock::now();
   MatchResult match = target.Icp(query, coarse, config_.icp);
+  stats_.loop_icp_seconds += Seconds(clock);
   match.score = score;
   if (search == nullptr) {
     LaserSlamConfig checks = config_;
@@ -561,6 +595,7 @@ bool LaserSlam::VerifyLoop(int k, int j, const Pose2& guess,
   } else if (!LoopMatchPasses(match, config_)) {
     return false;
   }
+  *passed = true;
   // Geometric consistency: the correction this closure implies (the
   // transform taking k's estimate to where the match puts it) must agree
   // with another recent keyframe's passing matches (global ones: with
@@ -634,7 +669,10 @@ bool LaserSlam::VerifyLoop(int k, int j, const Pose2& guess,
   hypotheses_.push_back(h);
   if (!plain_closures_.empty()) {
     // Optimize now: each group of large corrections is tested on its own.
-    if (!ApplyPlainClosures()) {
+    const auto chi2_start = std::chrono::steady_clock::now();
+    const bool kept = ApplyPlainClosures();
+    stats_.loop_chi2_seconds += Seconds(chi2_start);
+    if (!kept) {
       // Undone: neither counted nor kept as evidence for later matches.
       undone_corrections_.emplace_back(k, h.correction);
       undone_corrections_.erase(
@@ -793,6 +831,7 @@ void LaserSlam::Finish() {
     const auto start = std::chrono::steady_clock::now();
     CloseLoopsFinal();
     stats_.loop_seconds += Seconds(start);
+    stats_.loop_final_seconds += Seconds(start);
     if (stats_.final_closures_accepted > 0) {
       OptimizeGraph(0);
       RejectClosures();

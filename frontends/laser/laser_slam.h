@@ -40,8 +40,11 @@
 //     frame: correlative search over +-max(window, r) then ICP, passing
 //     LoopMatchPasses (the correlative search prunes every pose scoring
 //     below loop_min_score and a candidate where none reaches it gets no
-//     ICP). A passing match is accepted only when the correction it implies
-//     agrees (loop_consistency_distance / _angle, both corrections applied
+//     ICP; the search's work is bounded, loop_correlative.max_evaluations).
+//     A candidate of a place closed in the last loop_consistency_keyframes
+//     keyframes is first verified by ICP alone from the pose that closure
+//     predicts (loop_seeded_verification). A passing match is accepted
+//     only when the correction it implies agrees (loop_consistency_distance / _angle, both corrections applied
 //     to k's estimate, so that the test does not depend on how far the
 //     place is from the map's origin) with a passing match of another
 //     keyframe within loop_consistency_keyframes; both then
@@ -153,7 +156,15 @@ struct LaserSlamConfig {
   int loop_query_keyframes = 10;   // Last keyframes matched as one cloud.
   double loop_query_voxel = 0.1;   // m; thinning of that cloud.
   double loop_search_voxel = 0.2;  // m; further thinning for the search.
-  CorrelativeOptions loop_correlative{0.05, 6, 0.05, 1.5, 0.35, 0.01};
+  // At most 2e6 look-ups per search (max_evaluations, about 10 ms): the
+  // exact search's cost has no bound (ACES and MIT CSAIL: median 2-4e6,
+  // 10 % above 8e6, 3e7 over a 7 m window where nothing fits well; most
+  // of it proves that the pose found first is the best). Bounded, a
+  // search returns the best pose of the branches it explored first (the
+  // most promising). 2e6 is a guess from ACES and MIT CSAIL (4e6 left
+  // ACES unchanged but moved MIT's rotation std to 0.42 deg, 2e6 0.33:
+  // that figure flips with any change of the loop search order).
+  CorrelativeOptions loop_correlative{0.05, 6, 0.05, 1.5, 0.35, 0.01, 0.0, 2e6};
   int loop_every = 2;  // Check every n-th keyframe.
   // A place (keyframes j-h..j+h, h = loop_submap_half_width) that already
   // holds this many closures is not searched again (incremental and final
@@ -174,6 +185,15 @@ struct LaserSlamConfig {
   // moves its keyframe by at least this (m, and the same number in rad);
   // smaller corrections wait for the periodic and the final optimization.
   double loop_optimize_min_correction = 0.05;
+  // A local candidate j of a place closed in the last
+  // loop_consistency_keyframes keyframes (a closure from keyframe k' to
+  // j' within loop_submap_half_width of j) is first verified by ICP alone
+  // from the pose that closure predicts for k in j's frame (it may move
+  // k by at most loop_final_max_correction, as in the final pass); the
+  // correlative search runs only when that match fails. Along a revisit
+  // most candidates are of a place just closed, and the correlative
+  // search was about 80 % of the loop search (profile of issue 24).
+  bool loop_seeded_verification = true;
   double loop_min_score = 0.2;
   int loop_min_inliers = 100;
   double loop_min_fitness = 0.0;  // Inliers / query points (overlap).
@@ -292,6 +312,8 @@ struct LaserSlamStats {
   int closures_accepted = 0;          // Incremental (local + global).
   int global_closures_proposed = 0;   // Global search (place recognition).
   int global_closures_accepted = 0;
+  // Local candidates verified by ICP from a recent closure's prediction.
+  int seeded_verifications = 0;
   int closures_reverted = 0;  // Large corrections undone by the chi2 test.
   // Largest correction an accepted closure implied for its keyframe's
   // estimate when it was accepted (m, deg).
@@ -304,6 +326,16 @@ struct LaserSlamStats {
   int scans_refined = 0;  // Scans moved by the final refinement.
   double matching_seconds = 0.0;
   double loop_seconds = 0.0;
+  // Split of loop_seconds: building the submap targets of candidates,
+  // correlative searches (with their likelihood grids), ICP, the
+  // optimizations and chi2 tests of closures with large corrections, and
+  // the final pass; the rest is candidate selection, queries and
+  // descriptors.
+  double loop_target_seconds = 0.0;
+  double loop_correlative_seconds = 0.0;
+  double loop_icp_seconds = 0.0;
+  double loop_chi2_seconds = 0.0;
+  double loop_final_seconds = 0.0;
   double optimization_seconds = 0.0;
   double refine_seconds = 0.0;
 };
@@ -429,11 +461,12 @@ class LaserSlam {
   // Verifies candidate j for keyframe k: correlative search from `guess`
   // (k in j's frame) over `search`, ICP, LoopMatchPasses, consistency; adds
   // the closures that pass. True when some were added; sets *significant
-  // when one moves its keyframe by loop_optimize_min_correction.
+  // when one moves its keyframe by loop_optimize_min_correction, *passed
+  // when the match passed (before the consistency test).
   bool VerifyLoop(int k, int j, const Pose2& guess,
                   const CorrelativeOptions* search, bool global,
                   const Points2& query, const Points2& search_query,
-                  bool* significant);
+                  bool* significant, bool* passed);
   // Optimizes with the closures added without the robust kernel (large
   // corrections), then gives them the kernel; or, when they raise the chi2
   // of the rest of the graph by more than loop_global_max_chi2, removes

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <unordered_map>
 
 namespace slam {
@@ -425,7 +426,12 @@ Pose2 MatchTarget::Correlative(const Points2& source, const Pose2& initial,
       cy[a * n + i] = FloorToCell(q.y() / res);
     }
   }
+  double evaluations = 0.0;
+  const double budget = options.max_evaluations > 0
+                            ? options.max_evaluations
+                            : std::numeric_limits<double>::infinity();
   auto sum = [&](const std::vector<float>& grid, int a, int dx, int dy) {
+    evaluations += static_cast<double>(n);
     double s = 0.0;
     const int* px = &cx[a * n];
     const int* py = &cy[a * n];
@@ -453,7 +459,7 @@ Pose2 MatchTarget::Correlative(const Points2& source, const Pose2& initial,
       [&](std::vector<Candidate>& candidates, int level) {
         std::sort(candidates.begin(), candidates.end(), by_score);
         for (const Candidate& c : candidates) {
-          if (c.upper <= best) break;
+          if (c.upper <= best || evaluations > budget) break;
           if (level == 0) {
             best = c.upper;
             best_a = c.angle;

@@ -80,6 +80,13 @@ struct CorrelativeOptions {
   // nothing reaches the score is cheap where proving which pose is best
   // is not).
   double min_score = 0.0;
+  // Work bound: at most this many likelihood look-ups (one per source
+  // point and pose or bound evaluated); when reached, the search stops and
+  // returns the best pose found so far, i.e. the best of the branches it
+  // explored first, the most promising by their bounds (0: no bound, the
+  // search is exact). Wide windows where nothing fits well prune little
+  // and cost tens of times a typical search.
+  double max_evaluations = 0.0;
 };
 
 struct MatchResult {
