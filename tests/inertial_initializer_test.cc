@@ -154,14 +154,15 @@ TEST(InertialInitializerTest, StillStartGivesGyroBiasTiltAndThenTheYaw) {
       NsToSeconds(init.yaw_observable_stamp - data.imu.front().stamp);
   EXPECT_GT(t_obs, 3.0);
   EXPECT_LT(t_obs, 8.0);
-  // Within the yaw sigma it claims (alignment's, doubled), and a few degrees.
+  // Within the yaw sigma it claims (the alignment's, doubled), and a few
+  // degrees.
   const double rotation_error =
       RotationErrorDeg(init.state.state.pose.q, truth.pose.q);
   EXPECT_LT(rotation_error, init.yaw_sigma / kDeg);
   EXPECT_LT(rotation_error, 6.0);
   EXPECT_LT((init.state.state.pose.t - truth.pose.t).norm(), 0.1);
   EXPECT_LT(init.state.state.velocity.norm(), 1e-9);  // At rest.
-  EXPECT_LT(init.yaw_sigma, 10.0 * kDeg);
+  EXPECT_LT(init.yaw_sigma, 2.0 * kAlignmentMaxYawSigma);
 }
 
 TEST(InertialInitializerTest, MovingStartAlignsFromSparseFixes) {
@@ -701,9 +702,10 @@ TEST(InertialFlightTest, SteadilyMovingStartIsNotTakenForStill) {
     const double rmse = figures.rotation_rmse;
     const NeesSummary& nees = figures.nees;
     // A moving start learns the gyro bias (its prior: the sensor's turn-on
-    // bias, 0.05 rad/s in the EuRoC config) before the heading: 14.0 and
-    // 16.8 s (9.8 and 13.4 s when the prior was 0.01 rad/s, too narrow for
-    // the EuRoC unit's 0.076 rad/s).
+    // bias, 0.05 rad/s in the EuRoC config) before the heading: 12.4 and
+    // 13.0 s since the alignment models the integrated IMU noise (14.0 and
+    // 16.8 s with the fix noise alone; 9.8 and 13.4 s when the prior was
+    // 0.01 rad/s, too narrow for the EuRoC unit's 0.076 rad/s).
     EXPECT_LT(run.yaw_observable_after_seconds, 20.0);
     EXPECT_LT(rmse, 8.0);
     EXPECT_LT(nees.pose.mean, 6.0 * 2.0);
@@ -743,6 +745,43 @@ TEST(InertialFlightTest, MovingStartWithTheEurocGyroBiasEstimatesTheBias) {
     EXPECT_GT(figures.nees.bias.mean, 6.0 / 1.5);
     EXPECT_LT(figures.nees.bias.mean, 6.0 * 1.5);
     EXPECT_LT(figures.nees.pose.mean, 6.0 * 1.5);
+  }
+}
+
+// The alignment's sigmas are those the window starts from: they must cover
+// its errors. The gentle figure started in motion with the EuRoC unit's
+// gyro bias: gravity turns the tilt random walk of the gyroscope's white
+// noise (16x the data sheet in flight) into position errors of metres,
+// correlated across the fixes, that a fit weighted by the fix noise alone
+// partly explains with the biases and the yaw, and believes. Now the
+// alignment is a generalised least squares under that noise; seeds 53-82
+// (30 flights, by hand): all aligned after 10-15 s, the largest z bias
+// error 1.95 of its sigma, the largest rotation error 1.2 of the yaw sigma
+// handed on (2.4 of the fit's own). Before, with the fix noise alone: seeds
+// 53-55 aligned after 13.9-15.0 s, seed 56 never within its 30 s (its bias
+// Gauss-Newton lost the fit), and on the benchmark's gentle flight
+// (scripts/benchmark_inertial.py) the alignment found a z bias of 0.040
+// rad/s against 0.076 with a fit sigma several times smaller.
+TEST(InertialFlightTest, MovingStartAlignmentSigmasCoverItsErrors) {
+  const InertialOptions options = EurocOptions();
+  const Eigen::Vector3d gyro_bias(-0.0022, 0.0207, 0.0758);
+  for (unsigned seed : {53u, 54u, 55u, 56u}) {
+    const StillThenMoving trajectory(0.0, 0.0, -60.0 * kDeg, GentleFlight());
+    const InertialData data =
+        SimulateFlight(trajectory, 30.0, seed, &gyro_bias);
+    InertialInitialization init;
+    ASSERT_TRUE(InitializeMovingStart(data, options, seed, &init));
+    const InertialGroundTruth& truth = data.ground_truth.front();
+    const double z_error = std::abs(init.state.bias[2] - truth.bias[2]);
+    const double rotation_error =
+        RotationErrorDeg(init.state.state.pose.q, truth.pose.q) * kDeg;
+    std::printf(
+        "seed %u: gyro bias z error %.4f rad/s, sigma %.4f; rotation error "
+        "%.1f deg, yaw sigma %.1f deg\n",
+        seed, z_error, init.gyro_bias_sigma, rotation_error / kDeg,
+        init.yaw_sigma / kDeg);
+    EXPECT_LT(z_error, 3.0 * init.gyro_bias_sigma) << seed;
+    EXPECT_LT(rotation_error, 3.0 * init.yaw_sigma) << seed;
   }
 }
 

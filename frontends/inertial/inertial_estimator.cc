@@ -328,6 +328,14 @@ bool RunWindowPass(const InertialData& data, const KeyframePlan& plan,
   if (yaw_known_at != nullptr) *yaw_known_at = k_end;
   SlidingWindowOptions window_options = options.window;
   window_options.prior_builder = MakeMarginalizationPrior;
+  // The information of a window spans many decades: a start with a few
+  // degrees of tilt left, then 19 s without fixes (dead reckoning, position
+  // sigma of tens of metres) against the preintegration's attitude
+  // information puts the position's eigenvalues 1e-13 below the largest,
+  // and the default cut of 1e-12 dropped them (covariance "rank deficient",
+  // tests/inertial_initializer_test.cc, SparseFixesAndImuGapsAreReported).
+  // 1e-14 is still 50 x the eigensolver's rounding (eps times the largest).
+  window_options.marginalization.rank_threshold = 1e-14;
   window_options.final_covariances = options.smoothed_covariance;
   SlidingWindow window(window_options);
   const size_t n = k_end;

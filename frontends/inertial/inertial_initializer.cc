@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <utility>
+#include <vector>
 
 namespace slam {
 namespace {
@@ -25,6 +27,13 @@ constexpr double kStillMaxAccelMeanChange = 0.2;   // m/s^2
 constexpr double kStillMaxVelocitySigma = 0.15;  // m/s
 constexpr double kStillMaxLookAheadSeconds = 1.0;
 constexpr int kMinAlignmentFixes = 5;
+// The generalised alignment's cost grows with the cube of its fixes (the
+// Cholesky factor of their covariance) and its memory with the square: it
+// stops after this many (100 s of 10 Hz fixes: 8 MB, about a second per
+// run on a loaded machine). Later fixes add little about the start anyway:
+// the integrated IMU noise from the start is hundreds of metres after 100 s
+// with the EuRoC config.
+constexpr size_t kMaxAlignmentFixes = 1000;
 // A moving start's alignment re-integrates the readings with its gyro bias
 // estimate when that moves by more than this (a heading drift of 0.6 deg
 // in 10 s, small against kMaxYawSigma), at most kMaxRelinearizations times
@@ -33,7 +42,7 @@ constexpr int kMinAlignmentFixes = 5;
 // to the fix: the bounds keep a long log whose yaw never becomes observable
 // linear in its length; later fixes keep the last bias linearization). The
 // moving starts of tests/inertial_initializer_test.cc re-integrate 80-171
-// times before their yaw is known, 13-17 s in.
+// times before their yaw is known, 12-15 s in.
 constexpr double kRelinearizeGyroBias = 1e-3;  // rad/s
 constexpr int kMaxRelinearizations = 3;
 constexpr int kMaxReintegrations = 300;
@@ -187,6 +196,88 @@ size_t StillPrefix(const InertialData& data, const InertialOptions& options,
   return end;
 }
 
+// The covariance across the alignment's fixes of their error: the fix noise
+// plus the position error of the integrated IMU noise, which starts at zero
+// at t0 (the preintegration's start) and is strongly correlated across
+// fixes. The gyroscope's white noise random-walks the tilt (the same in
+// every horizontal direction: the body turns isotropic noise into isotropic
+// noise), and gravity turns the tilt into a horizontal acceleration error:
+// a triple integral of white noise, g sigma_g sqrt(t^5 / 20) in position
+// (4 m after 14 s with the EuRoC config's gyro density, against a fix noise
+// of 0.1 m); the gyroscope's random walk adds a fourfold one. The
+// accelerometer's white noise (double integral) and random walk (triple)
+// act in every direction. (The yaw's random walk turns the integrated
+// displacement, metres, not the integrated gravity: centimetres, left out.)
+// A generalised least squares: the alignment whitens each fix's design row
+// and residual with the Cholesky factor L of this covariance (row k of L^-1
+// A from the rows before: causal and incremental) and adds the whitened
+// rows as independent observations, so its normal matrix, yaw and bias
+// sigmas and chi2 are those of the correlated noise.
+class FixNoiseFactor {
+ public:
+  // horizontal: with the tilt terms (else the vertical axis).
+  FixNoiseFactor(const ImuNoise& noise, double gravity, double fix_sigma,
+                 bool horizontal)
+      : fix_variance_(fix_sigma * fix_sigma) {
+    const double g2 = horizontal ? gravity * gravity : 0.0;
+    // Intensities of the 1-, 2-, 3- and 4-fold integrals of white noise
+    // that the position error is made of.
+    intensity_[1] = noise.accel_noise_density * noise.accel_noise_density;
+    intensity_[2] = noise.accel_random_walk * noise.accel_random_walk +
+                    g2 * noise.gyro_noise_density * noise.gyro_noise_density;
+    intensity_[3] = g2 * noise.gyro_random_walk * noise.gyro_random_walk;
+  }
+
+  // Row k of L (k entries and the diagonal last) for the fix at tau; the
+  // rows come in the order of the fixes, computed once (an alignment
+  // rebuilt over the same fixes reuses them).
+  const std::vector<double>& Row(size_t k, double tau) {
+    if (k < rows_.size()) return rows_[k];
+    std::vector<double> row(k + 1, 0.0);
+    double rest = Kernel(tau, tau) + fix_variance_;
+    for (size_t j = 0; j < k; ++j) {
+      double c = Kernel(taus_[j], tau);
+      for (size_t i = 0; i < j; ++i) c -= rows_[j][i] * row[i];
+      row[j] = c / rows_[j][j];
+      rest -= row[j] * row[j];
+    }
+    // Rounding in a strongly correlated covariance: never below a small
+    // part of the fix noise.
+    row[k] = std::sqrt(std::max(rest, 1e-6 * fix_variance_));
+    taus_.push_back(tau);
+    rows_.push_back(std::move(row));
+    return rows_.back();
+  }
+
+ private:
+  // Cov(x(s), x(t)) of the n-fold integrals of white noise (n = 1..4 in
+  // intensity_[n - 1]) from 0: int_0^s (s-u)^(n-1) (t-u)^(n-1) du /
+  // ((n-1)!)^2 for s <= t, in closed form (binomial in d = t - s).
+  double Kernel(double s, double t) const {
+    if (s > t) std::swap(s, t);
+    const double d = t - s;
+    double total = 0.0;
+    double factorial = 1.0;  // a!
+    for (int a = 0; a < 4; ++a) {
+      if (a > 0) factorial *= a;
+      if (intensity_[a] == 0.0) continue;
+      double sum = 0.0, binomial = 1.0;
+      for (int k = 0; k <= a; ++k) {
+        sum += binomial * std::pow(d, a - k) * std::pow(s, a + k + 1) /
+               (a + k + 1);
+        binomial = binomial * (a - k) / (k + 1);
+      }
+      total += intensity_[a] * sum / (factorial * factorial);
+    }
+    return total;
+  }
+
+  double fix_variance_;
+  double intensity_[4] = {0.0, 0.0, 0.0, 0.0};  // [a]: the (a+1)-fold one
+  std::vector<double> taus_;
+  std::vector<std::vector<double>> rows_;
+};
+
 // Normal equations of the alignment with roll and pitch known: u = R_tilt
 // (dp + dR lever_arm) rotated by the yaw psi about the vertical,
 // (c, s) = (cos psi, sin psi), and the readings' bias error db (gyro, accel;
@@ -202,6 +293,8 @@ size_t StillPrefix(const InertialData& data, const InertialOptions& options,
 //               the world frame as the body turns),
 //   vertical:   y_z = p0z + v0z t + u_z + 1/2 b t^2  (3 unknowns; b absorbs
 //               the accelerometer's error along the vertical).
+// Each fix's rows are whitened by the correlated noise of FixNoiseFactor
+// (generalised least squares) before they enter the normal equations.
 // e, q and r have zero-mean priors (the tilt and bias sigmas; |q|, |r| <=
 // |db|): without turning, a body-frame bias and the tilt error look alike,
 // and the priors say how much of the motion either may explain. The yaw
@@ -222,9 +315,17 @@ struct Alignment {
   Eigen::Vector3d rhs_z = Eigen::Vector3d::Zero();
   double yy = 0.0;
   int fixes = 0;
+  // The fix noise's factors (shared by the rebuilt alignments) and the
+  // whitened rows so far: [design row, observation] per fix, x and y
+  // (the same horizontal covariance), z.
+  FixNoiseFactor* horizontal_noise;
+  FixNoiseFactor* vertical_noise;
+  std::vector<Eigen::Matrix<double, kH + 1, 1>> wx, wy;
+  std::vector<Eigen::Vector4d> wz;
 
-  Alignment(double tilt_sigma, double gyro_bias_sigma,
-            double accel_bias_sigma) {
+  Alignment(double tilt_sigma, double gyro_bias_sigma, double accel_bias_sigma,
+            FixNoiseFactor* horizontal, FixNoiseFactor* vertical)
+      : horizontal_noise(horizontal), vertical_noise(vertical) {
     prior.diagonal().segment<2>(6).setConstant(1.0 / (tilt_sigma * tilt_sigma));
     for (int block : {8, 14}) {
       prior.diagonal().segment<3>(block).setConstant(
@@ -235,18 +336,35 @@ struct Alignment {
   }
 
   void Add(double tau, const Eigen::Vector3d& y, const Eigen::Vector3d& u,
-           const Eigen::Matrix<double, 3, 6>& m, double weight) {
-    VecH ax, ay;
+           const Eigen::Matrix<double, 3, 6>& m) {
+    Eigen::Matrix<double, kH + 1, 1> ax, ay;
     ax << 1.0, 0.0, tau, 0.0, u.x(), -u.y(), u.z(), 0.0, m.row(0).transpose(),
-        -m.row(1).transpose();
+        -m.row(1).transpose(), y.x();
     ay << 0.0, 1.0, 0.0, tau, u.y(), u.x(), 0.0, u.z(), m.row(1).transpose(),
-        m.row(0).transpose();
-    normal += weight * (ax * ax.transpose() + ay * ay.transpose());
-    rhs += weight * (ax * y.x() + ay * y.y());
-    yy += weight * (y.x() * y.x() + y.y() * y.y());
-    const Eigen::Vector3d az(1.0, tau, 0.5 * tau * tau);
-    normal_z += weight * az * az.transpose();
-    rhs_z += weight * az * (y.z() - u.z());
+        m.row(0).transpose(), y.y();
+    Eigen::Vector4d az(1.0, tau, 0.5 * tau * tau, y.z() - u.z());
+    // Row k of L^-1 [A y] = (row k - sum_j L_kj (whitened row j)) / L_kk.
+    const size_t k = wx.size();
+    const std::vector<double>& lh = horizontal_noise->Row(k, tau);
+    const std::vector<double>& lz = vertical_noise->Row(k, tau);
+    for (size_t j = 0; j < k; ++j) {
+      ax -= lh[j] * wx[j];
+      ay -= lh[j] * wy[j];
+      az -= lz[j] * wz[j];
+    }
+    ax /= lh[k];
+    ay /= lh[k];
+    az /= lz[k];
+    wx.push_back(ax);
+    wy.push_back(ay);
+    wz.push_back(az);
+    const VecH hx = ax.head<kH>(), hy = ay.head<kH>();
+    normal += hx * hx.transpose() + hy * hy.transpose();
+    rhs += hx * ax[kH] + hy * ay[kH];
+    yy += ax[kH] * ax[kH] + ay[kH] * ay[kH];
+    const Eigen::Vector3d hz = az.head<3>();
+    normal_z += hz * hz.transpose();
+    rhs_z += hz * az[3];
     ++fixes;
   }
 
@@ -386,9 +504,14 @@ bool InitializeInertial(const InertialData& data,
   PreintegratedImu pim(options.noise, lin_bias, options.gravity);
   TimeNs integrated_to = t0;
   double best_sigma = M_PI;  // The smallest yaw sigma of the fit so far.
+  const double fix_sigma = std::max(options.position_sigma, 1e-3);
+  FixNoiseFactor horizontal_noise(options.noise, options.gravity.norm(),
+                                  fix_sigma, true);
+  FixNoiseFactor vertical_noise(options.noise, options.gravity.norm(),
+                                fix_sigma, false);
   Alignment alignment(init->tilt_sigma, init->gyro_bias_sigma,
-                      init->accel_bias_sigma);
-  const double weight = 1.0 / (options.position_sigma * options.position_sigma);
+                      init->accel_bias_sigma, &horizontal_noise,
+                      &vertical_noise);
   // Integrates the readings up to fix g and adds it to the fit (false on a
   // non-finite reading: the estimators report it).
   auto add_fix = [&](size_t g) {
@@ -407,13 +530,15 @@ bool InitializeInertial(const InertialData& data,
         r_level * (pim.delta_p() + pim.delta_q() * options.lever_arm);
     Eigen::Matrix<double, 3, 6> m;
     m << r_level * pim.dp_dbg(), r_level * pim.dp_dba();
-    alignment.Add(tau, y, u, m, weight);
+    alignment.Add(tau, y, u, m);
     return true;
   };
   const size_t f_first = f;
   bool readable = true;
   int reintegrations = 0;
-  for (; readable && f < data.positions.size(); ++f) {
+  for (; readable && f < data.positions.size() &&
+         f - f_first < kMaxAlignmentFixes;
+       ++f) {
     const PositionFix& fix = data.positions[f];
     if (fix.stamp > data.imu.back().stamp || !add_fix(f)) break;
     Alignment::Result r = alignment.Solve();
@@ -432,8 +557,9 @@ bool InitializeInertial(const InertialData& data,
       lin_bias.head<3>() += r.bias_error.head<3>();
       const Eigen::Vector3d offset =
           init->state.bias.head<3>() - lin_bias.head<3>();
-      alignment = Alignment(init->tilt_sigma, init->gyro_bias_sigma,
-                            init->accel_bias_sigma);
+      alignment =
+          Alignment(init->tilt_sigma, init->gyro_bias_sigma,
+                    init->accel_bias_sigma, &horizontal_noise, &vertical_noise);
       alignment.prior_mean.segment<3>(8) = std::cos(r.yaw) * offset;
       alignment.prior_mean.segment<3>(14) = std::sin(r.yaw) * offset;
       pim = PreintegratedImu(options.noise, lin_bias, options.gravity);
@@ -448,7 +574,7 @@ bool InitializeInertial(const InertialData& data,
         init->yaw_hint_stamp > fix.stamp) {
       init->yaw_hint_stamp = fix.stamp;
     }
-    if (!r.ok || r.yaw_sigma > kMaxYawSigma) continue;
+    if (!r.ok || r.yaw_sigma > kAlignmentMaxYawSigma) continue;
     init->yaw_observable = true;
     init->yaw_observable_stamp = fix.stamp;
     if (!init->still_start) {
@@ -457,7 +583,7 @@ bool InitializeInertial(const InertialData& data,
       init->state.bias.head<3>() = lin_bias.head<3>() + r.bias_error.head<3>();
       init->gyro_bias_sigma =
           std::min(init->gyro_bias_sigma,
-                   std::max(2.0 * r.gyro_bias_sigma, kMinGyroBiasSigma));
+                   std::max(r.gyro_bias_sigma, kMinGyroBiasSigma));
     }
     init->alignment_fixes = alignment.fixes;
     Eigen::Matrix3d r_yaw =
@@ -508,14 +634,15 @@ bool InitializeInertial(const InertialData& data,
         init->yaw_sigma * 180.0 / M_PI, init->tilt_sigma * 180.0 / M_PI,
         init->state.bias[0], init->state.bias[1], init->state.bias[2]);
   } else {
-    std::snprintf(line, sizeof(line),
-                  "initializer: %s; yaw NOT observable from the %zu fixes "
-                  "(the alignment's yaw sigma never fell below %.0f deg, "
-                  "smallest %.1f deg: too little horizontal acceleration "
-                  "to tell the heading from the biases and the tilt, or too "
-                  "few fixes): the heading of every estimate is unknown",
-                  still, data.positions.size(), kMaxYawSigma * 180.0 / M_PI,
-                  best_sigma * 180.0 / M_PI);
+    std::snprintf(
+        line, sizeof(line),
+        "initializer: %s; yaw NOT observable from the %zu fixes "
+        "(the alignment's yaw sigma never fell below %.0f deg, "
+        "smallest %.1f deg: too little horizontal acceleration "
+        "to tell the heading from the biases and the tilt, or too "
+        "few fixes): the heading of every estimate is unknown",
+        still, std::min(data.positions.size() - f_first, kMaxAlignmentFixes),
+        kAlignmentMaxYawSigma * 180.0 / M_PI, best_sigma * 180.0 / M_PI);
   }
   init->summary = line;
   return true;
