@@ -142,6 +142,12 @@ void IsotropicNewtonSystem(const IsotropicProblem& p,
                            const Eigen::MatrixXd& y,
                            Eigen::SparseMatrix<double>* hessian,
                            Eigen::VectorXd* gradient);
+// H v without forming H (edge by edge), as NewtonRefine's conjugate
+// gradients use it.
+Eigen::VectorXd IsotropicNewtonProduct(const IsotropicProblem& p,
+                                       const Eigen::SparseMatrix<double>& m,
+                                       const Eigen::MatrixXd& y,
+                                       const Eigen::VectorXd& v);
 Eigen::MatrixXd RetractIsotropic(const IsotropicProblem& p,
                                  const Eigen::MatrixXd& y,
                                  const Eigen::VectorXd& step);
@@ -149,12 +155,16 @@ Eigen::MatrixXd RetractIsotropic(const IsotropicProblem& p,
 // Rank d only: Riemannian Newton steps on f (rotations, node 0 held; the
 // exact Hessian of IsotropicNewtonSystem, tested against finite
 // differences), the translations kept optimal for the rotations (variable
-// projection: Newton on min_t f(t, R)), with backtracking. Returns the
+// projection: Newton on min_t f(t, R)), with backtracking. The Hessian is
+// factorized once; later steps solve by conjugate gradients preconditioned
+// with that factor (a new factorization only when they fail). Returns the
 // iterations, or -1 when the Newton system cannot be solved (far from a
-// minimum).
+// minimum). stop_early: a full step whose predicted decrease is below
+// 1e-7 f is the last (quadratic convergence puts the next one at rounding
+// level) instead of confirming that with one more linearization and solve.
 int NewtonRefine(const IsotropicProblem& p,
                  const Eigen::SparseMatrix<double>& m, int max_iterations,
-                 Eigen::MatrixXd* y);
+                 Eigen::MatrixXd* y, bool stop_early = false);
 
 // Certifies the graph's current values: refines them to a critical point
 // of f (rank d) and certifies that.

@@ -185,6 +185,12 @@ void CheckNewtonSystem(const Graph& graph, double perturbation) {
   IsotropicNewtonSystem(p, m, y, &h, &g);
   const Eigen::MatrixXd hd(h);
   ASSERT_EQ(hd.rows(), block * (n - 1));
+  // The products NewtonRefine's conjugate gradients use, edge by edge,
+  // against the assembled Hessian.
+  Eigen::VectorXd v(hd.rows());
+  for (int k = 0; k < v.size(); ++k) v(k) = rng.Normal();
+  EXPECT_LT((IsotropicNewtonProduct(p, m, y, v) - hd * v).norm(),
+            1e-12 * (hd * v).norm());
   auto phi = [&](const Eigen::VectorXd& w) {
     return EdgeSum(p, RetractIsotropic(p, y, w));
   };
