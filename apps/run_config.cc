@@ -110,7 +110,6 @@ Section Schema(RunConfig* c) {
          I("global_candidates", &s.loop_global_candidates),
          D("global_max_distance", &s.loop_global_max_distance),
          D("global_window", &s.loop_global_window),
-         D("global_max_evaluations", &s.loop_global_max_evaluations),
          I("global_min_agreeing", &s.loop_global_min_agreeing),
          D("global_max_chi2", &s.loop_global_max_chi2),
          D("max_chi2_per_link", &s.loop_max_chi2_per_link),

@@ -182,40 +182,6 @@ TEST(ScanMatcherTest, CorrelativeWorkBoundStopsTheSearch) {
   EXPECT_LT((early.t - t.f.truth.t).norm(), 0.1);
 }
 
-// Best-first order (a priority queue over all levels) finds the same
-// exact best as depth-first, with or without a minimum score; a work
-// bound it cannot finish within returns nothing (the initial pose, score
-// 0): the first pose it reaches is the best one, never a lesser one.
-TEST(ScanMatcherTest, CorrelativeBestFirstFindsTheSameBest) {
-  CorrelativeCase t = MakeCorrelativeCase();
-  ASSERT_GT(t.score, 0.3);
-  const Points2& source = t.f.source;
-  t.c.best_first = true;
-  double score = 0.0;
-  const Pose2 exact = t.f.target.Correlative(source, t.guess, t.c, &score);
-  EXPECT_NEAR(score, t.score, 1e-12);
-  EXPECT_LT((exact.t - t.best.t).norm(), 1e-12);
-  EXPECT_NEAR(exact.theta, t.best.theta, 1e-12);
-  t.c.min_score = t.score - 0.1;
-  const Pose2 pruned = t.f.target.Correlative(source, t.guess, t.c, &score);
-  EXPECT_NEAR(score, t.score, 1e-12);
-  EXPECT_LT((pruned.t - t.best.t).norm(), 1e-12);
-  t.c.min_score = t.score + 0.01;
-  const Pose2 none = t.f.target.Correlative(source, t.guess, t.c, &score);
-  EXPECT_EQ(score, 0.0);
-  EXPECT_LT((none.t - t.guess.t).norm(), 1e-12);
-  t.c.min_score = 0.0;
-  t.c.max_evaluations = 1e12;
-  const Pose2 bounded = t.f.target.Correlative(source, t.guess, t.c, &score);
-  EXPECT_NEAR(score, t.score, 1e-12);
-  EXPECT_LT((bounded.t - t.best.t).norm(), 1e-12);
-  // The roots (41 angles, 4 x 4 blocks) and a hundred expansions.
-  t.c.max_evaluations = (41.0 * 16 + 100) * source.size();
-  const Pose2 early = t.f.target.Correlative(source, t.guess, t.c, &score);
-  EXPECT_EQ(score, 0.0);
-  EXPECT_LT((early.t - t.guess.t).norm(), 1e-12);
-}
-
 TEST(ScanMatcherTest, IcpFailsWithoutOverlap) {
   std::mt19937 rng(4);
   MatchTarget target;

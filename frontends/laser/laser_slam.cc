@@ -531,11 +531,6 @@ bool LaserSlam::DetectLoopClosures(int k) {
       search.window_theta =
           std::min(search.window_theta,
                    4.0 * M_PI / std::max(1, config_.loop_context.sectors));
-      // Best bound first: the wide window's loose bounds make a depth-first
-      // search spend its work bound in the first subtrees, best-first
-      // reaches a true place with a smaller bound.
-      search.best_first = true;
-      search.max_evaluations = config_.loop_global_max_evaluations;
       ++stats_.global_closures_proposed;
       bool passed = false;
       VerifyLoop(k, place.index, Pose2(0.0, 0.0, place.rotation), &search, true,

@@ -237,12 +237,6 @@ struct LaserSlamConfig {
   int loop_global_candidates = 2;
   double loop_global_max_distance = 0.5;
   double loop_global_window = 3.0;  // m.
-  // Work bound of each global search (look-ups, as
-  // loop_correlative.max_evaluations), which runs best bound first: most
-  // global candidates are wrong places that spend the whole bound, so it
-  // sets the global search's cost. Half the local bound: 1e6 closes the
-  // simulated revisits (laser_slam_test), 5e5 does not.
-  double loop_global_max_evaluations = 1e6;
   int loop_global_min_agreeing = 2;
   // The first optimization with such closures (see above) may raise the
   // chi2 of the other factors by at most loop_global_max_chi2, or by

@@ -6,7 +6,6 @@
 #include <cmath>
 #include <functional>
 #include <limits>
-#include <queue>
 #include <unordered_map>
 
 namespace slam {
@@ -490,41 +489,7 @@ Pose2 MatchTarget::Correlative(const Points2& source, const Pose2& initial,
       }
     }
   }
-  if (options.best_first) {
-    struct Node {
-      double upper;
-      int level, angle, dx, dy;
-      bool operator<(const Node& o) const { return upper < o.upper; }
-    };
-    std::priority_queue<Node> queue;
-    for (const Candidate& c : roots) {
-      if (c.upper > best) queue.push({c.upper, top, c.angle, c.dx, c.dy});
-    }
-    while (!queue.empty() && evaluations <= budget) {
-      const Node c = queue.top();
-      queue.pop();
-      if (c.upper <= best) break;
-      if (c.level == 0) {
-        // No other candidate bounds a better score.
-        best = c.upper;
-        best_a = c.angle;
-        best_dx = c.dx;
-        best_dy = c.dy;
-        break;
-      }
-      const int half = 1 << (c.level - 1);
-      for (int oy = 0; oy <= half; oy += half) {
-        for (int ox = 0; ox <= half; ox += half) {
-          const int dx = c.dx + ox, dy = c.dy + oy;
-          if (dx > nxy || dy > nxy) continue;
-          const double upper = sum(l.pyramid[c.level - 1], c.angle, dx, dy);
-          if (upper > best) queue.push({upper, c.level - 1, c.angle, dx, dy});
-        }
-      }
-    }
-  } else {
-    search(roots, top);
-  }
+  search(roots, top);
   if (options.min_score > 0 && !(best > min_sum)) return initial;
   *score = std::max(0.0, best) / static_cast<double>(n);
   return Pose2(initial.t.x() + best_dx * res, initial.t.y() + best_dy * res,

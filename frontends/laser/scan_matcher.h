@@ -87,13 +87,6 @@ struct CorrelativeOptions {
   // search is exact). Wide windows where nothing fits well prune little
   // and cost tens of times a typical search.
   double max_evaluations = 0.0;
-  // Expand candidates best bound first over all levels (a priority queue)
-  // instead of depth first: the best pose is reached after expanding only
-  // the candidates whose bound exceeds its score, so a search bounded by
-  // max_evaluations finds it with less work where bounds are loose (wide
-  // windows). A search that runs out of work before reaching a pose
-  // returns nothing (initial pose, score 0), never a lesser pose.
-  bool best_first = false;
 };
 
 struct MatchResult {
