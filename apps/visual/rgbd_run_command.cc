@@ -28,7 +28,6 @@
 #include "datasets/trajectory_io.h"
 #include "datasets/tum_rgbd_io.h"
 #include "frontends/rgbd/rgbd_source.h"
-#include "frontends/visual/capture_clock.h"
 #include "frontends/visual/visual_slam.h"
 
 DECLARE_string(output_dir);
@@ -84,28 +83,6 @@ int RunRgbd(const RgbdRunConfig& config) {
       camera.name.c_str(), how.c_str(), camera.fx, camera.fy, camera.cx,
       camera.cy, camera.k1, camera.k2, camera.p1, camera.p2, camera.k3,
       config.depth.depth_factor, config.depth.virtual_baseline);
-
-  // The poses are written at the colour stamps from the capture instants
-  // (frontends/visual/capture_clock.h): the same fit the pipeline makes.
-  if (config.depth.fixed_rate_capture) {
-    std::vector<TimeNs> stamps;
-    for (size_t i = 0; i < source.NumFrames(); ++i) {
-      stamps.push_back(sequence.frames[i].rgb.stamp);
-    }
-    const CaptureClock clock = FitCaptureClock(stamps);
-    if (clock.fixed_rate) {
-      std::printf(
-          "run: capture clock %.3f ms (%.2f Hz) fitted to the colour stamps, "
-          "jitter %.2f ms rms, latency up to %.2f ms: poses of the capture "
-          "instants, written at the stamps\n",
-          1e3 * clock.period, 1.0 / clock.period, 1e3 * clock.jitter_rms,
-          1e3 * clock.latency_max);
-    } else {
-      std::printf(
-          "run: the colour stamps fit no fixed frame rate: poses written as "
-          "those of the stamps\n");
-    }
-  }
 
   // Ground truth: read (and checked) before the work.
   const std::string gt_path =

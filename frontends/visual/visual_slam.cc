@@ -106,9 +106,21 @@ bool VisualSlam::Run(const VisualSlamCallbacks& callbacks,
     std::vector<TimeNs> stamps;
     for (const StampedPose& p : result->trajectory) stamps.push_back(p.stamp);
     const CaptureClock clock = FitCaptureClock(stamps);
+    char line[256];
     if (clock.fixed_rate) {
       result->trajectory = PosesAtStamps(result->trajectory, clock.capture);
+      std::snprintf(line, sizeof(line),
+                    "capture clock %.3f ms (%.2f Hz) fitted to the stamps, "
+                    "jitter %.2f ms rms, latency up to %.2f ms: poses of the "
+                    "capture instants, written at the stamps",
+                    1e3 * clock.period, 1.0 / clock.period,
+                    1e3 * clock.jitter_rms, 1e3 * clock.latency_max);
+    } else {
+      std::snprintf(line, sizeof(line),
+                    "the stamps fit no fixed frame rate: poses written as "
+                    "those of the stamps");
     }
+    if (callbacks.log) callbacks.log(line);
   }
   result->map_points = odometry_->MapPoints();
   result->stats = odometry_->stats();
