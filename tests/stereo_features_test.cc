@@ -59,6 +59,10 @@ struct DisparityErrors {
   int matches = 0;
   double rms = 0.0;
   double max_abs_bias = 0.0;  // Largest mean error over the fractions.
+  // Per octave of the left keypoint: the matches, and the largest mean error
+  // over the fractions with at least 10 matches of that octave.
+  std::vector<int> octave_matches;
+  std::vector<double> octave_max_abs_bias;
 };
 
 DisparityErrors MeasureDisparity(const StereoFeatureConfig& config,
@@ -69,6 +73,8 @@ DisparityErrors MeasureDisparity(const StereoFeatureConfig& config,
   const StereoFeatureExtractor extractor(config, calibration);
   const cv::Mat world = RenderWorld(width + 40, height, 3);
   DisparityErrors out;
+  out.octave_matches.assign(config.levels, 0);
+  out.octave_max_abs_bias.assign(config.levels, 0.0);
   double sum2 = 0.0;
   for (int tenth = 0; tenth < 10; ++tenth) {
     const double d = 12.0 + 0.1 * tenth;
@@ -78,6 +84,8 @@ DisparityErrors MeasureDisparity(const StereoFeatureConfig& config,
     const StereoFeatureFrame f = extractor.Extract(images, nullptr);
     double sum = 0.0;
     int n = 0;
+    std::vector<double> octave_sum(config.levels, 0.0);
+    std::vector<int> octave_n(config.levels, 0);
     for (size_t i = 0; i < f.size(); ++i) {
       if (!f.HasStereo(i)) continue;
       const double e = f.keypoints[i].pt.x - f.u_right[i] - d;
@@ -85,9 +93,18 @@ DisparityErrors MeasureDisparity(const StereoFeatureConfig& config,
       sum += e;
       sum2 += e * e;
       ++n;
+      octave_sum[f.keypoints[i].octave] += e;
+      ++octave_n[f.keypoints[i].octave];
     }
     out.matches += n;
     if (n > 0) out.max_abs_bias = std::max(out.max_abs_bias, std::abs(sum / n));
+    for (int l = 0; l < config.levels; ++l) {
+      out.octave_matches[l] += octave_n[l];
+      if (octave_n[l] >= 10) {
+        out.octave_max_abs_bias[l] = std::max(
+            out.octave_max_abs_bias[l], std::abs(octave_sum[l] / octave_n[l]));
+      }
+    }
   }
   out.rms = std::sqrt(sum2 / std::max(1, out.matches));
   return out;
@@ -108,6 +125,28 @@ TEST(StereoFeaturesTest, SubPixelDisparityOfARenderedWall) {
     EXPECT_LT(e.rms, 0.25);
     EXPECT_LT(e.max_abs_bias, 0.05);
   }
+}
+
+TEST(StereoFeaturesTest, SubPixelDisparityIsUnbiasedAtEveryOctave) {
+  // The same wall, per octave of the left keypoint: a corner found on a
+  // coarse pyramid level is matched at its full-resolution position, and
+  // the refinement runs on full-resolution patches at every octave, so the
+  // disparity of every octave must be as unbiased as octave 0's (a bias
+  // that grew with the octave would scale depths more at full resolution,
+  // which keeps more corners of the higher octaves).
+  const StereoFeatureConfig config;
+  const DisparityErrors e = MeasureDisparity(config, 2.0);
+  int octaves = 0;
+  for (int l = 0; l < config.levels; ++l) {
+    std::printf(
+        "octave %d: %d stereo matches, largest mean error at one sub-pixel "
+        "disparity %.3f px\n",
+        l, e.octave_matches[l], e.octave_max_abs_bias[l]);
+    if (e.octave_matches[l] < 150) continue;  // Too few for a mean.
+    ++octaves;
+    EXPECT_LT(e.octave_max_abs_bias[l], 0.05) << "octave " << l;
+  }
+  EXPECT_GE(octaves, 4);
 }
 
 // Mean error of the keypoint positions per octave when the image moves
