@@ -46,6 +46,11 @@ namespace slam {
 // information knows the yaw itself once its newest state's yaw sigma is
 // below kMaxYawSigma (inertial_initializer.h): from that keyframe on its
 // estimates count as knowing the yaw (until the alignment, if it comes).
+// While that pass's yaw sigma is above kAlignmentMaxYawSigma, its
+// marginalization prior is kept from knowing the heading better than 60
+// degrees (inertial_estimator.cc): its heading is arbitrary, and a prior
+// linearised there turns the later pull towards the true heading into a
+// gyro bias.
 struct InertialOptions {
   double keyframe_rate_hz = 10.0;
   ImuBias initial_bias = ImuBias::Zero();  // Prior mean of the first bias.
