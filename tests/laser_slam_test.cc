@@ -487,8 +487,9 @@ TEST(LaserSlamTest, RevisitAfterLongExcursionIsClosed) {
 // wrong closure's. No map can be right with the wrong field of view, so
 // the test measures what the Freiburg relations measured: the relative
 // pose of each scan of the first 20 m and the scan at the same place one
-// lap later (0.57 m now: the biased scan matches still pull the closed
-// map apart a little).
+// lap later (0.020 m mean, 0.051 m worst now, with three global closures;
+// 0.57 m while the correlative search's bounds dropped the query points
+// sticking out of the place's submap and only local closures closed it).
 TEST(LaserSlamTest, RevisitAfterDriftThroughBiasedScanMatchesIsClosed) {
   LogFaults faults;
   faults.turn_steps = 3;

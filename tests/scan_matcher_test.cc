@@ -112,6 +112,32 @@ TEST(ScanMatcherTest, CorrelativeBranchAndBoundEqualsExhaustiveSearch) {
   EXPECT_NEAR(bb.theta, ex.theta, 1e-12);
 }
 
+// The same where the source reaches beyond the target's lower-left edge
+// (partial overlap, as a loop query sticking out of a place's submap): a
+// wall 2 m long and the same wall seen 1.5 m to the left, searched over
+// +-2 m with six levels. The bound of a block of offsets must count the
+// points that land on the grid only for the block's larger offsets; it
+// dropped them and pruned the match (score 0 against 0.88).
+TEST(ScanMatcherTest, CorrelativeBranchAndBoundEqualsExhaustiveSearchAtTheEdge) {
+  Points2 wall, seen;
+  for (int i = 0; i <= 100; ++i) wall.emplace_back(0.02 * i, 0.0);
+  for (int i = 0; i <= 20; ++i) seen.emplace_back(-1.5 + 0.1 * i, 0.0);
+  MatchTarget target;
+  target.Build(wall, 0.3, 0.15);
+  CorrelativeOptions c;
+  c.window_xy = 2.0;
+  c.window_theta = 0.0;
+  c.levels = 6;
+  double score = 0.0;
+  const Pose2 bb = target.Correlative(seen, Pose2(), c, &score);
+  c.levels = 0;
+  double exhaustive_score = 0.0;
+  target.Correlative(seen, Pose2(), c, &exhaustive_score);
+  EXPECT_GT(exhaustive_score, 0.8);
+  EXPECT_NEAR(score, exhaustive_score, 1e-9);
+  EXPECT_NEAR(bb.t.x(), 1.5, 0.06);
+}
+
 // A minimum score only prunes: below the best score the answer is the
 // same; above it, the search reports nothing (initial pose, score 0).
 // A correlative search case: a guess 0.36 m and 0.1 rad from the truth, a

@@ -343,7 +343,12 @@ void MatchTarget::BuildLikelihood(const CorrelativeOptions& options,
   l.valid_lo = (want_lo.array() - 5.0).matrix().cwiseMax(target_lo);
   l.valid_hi = (want_hi.array() + 5.0).matrix().cwiseMin(target_hi);
   l.valid_hi = l.valid_hi.cwiseMax(l.valid_lo);
-  l.origin = l.valid_lo;
+  // Level l bounds the offsets [d, d + 2^l) by the block of cells starting
+  // at a point's cell for offset d: a point below or left of the valid part
+  // for offset d can land in it for a larger offset of the block, so the
+  // grids start 2^levels - 1 cells lower (zero there), else the block's
+  // bound would drop that point and prune poses scoring more than it.
+  l.origin = (l.valid_lo.array() - ((1 << l.levels) - 1) * res).matrix();
   l.width = static_cast<int>((l.valid_hi.x() - l.origin.x()) / res) + 2;
   l.height = static_cast<int>((l.valid_hi.y() - l.origin.y()) / res) + 2;
   l.pyramid.assign(
