@@ -110,6 +110,7 @@ Section Schema(RunConfig* c) {
          I("global_candidates", &s.loop_global_candidates),
          D("global_max_distance", &s.loop_global_max_distance),
          D("global_window", &s.loop_global_window),
+         D("global_probe_evaluations", &s.loop_global_probe_evaluations),
          I("global_min_agreeing", &s.loop_global_min_agreeing),
          D("global_max_chi2", &s.loop_global_max_chi2),
          D("max_chi2_per_link", &s.loop_max_chi2_per_link),

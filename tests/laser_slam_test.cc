@@ -435,12 +435,13 @@ double RunBuilding(const SyntheticLog& data, LaserSlamStats* stats) {
   const double rmse = PositionRmse(est, data.truth);
   std::printf(
       "rmse %.3f m (odometry %.1f m), closures %d of %d accepted (%d global "
-      "of %d proposed), %d reverted, %d rejected, largest correction %.2f m "
-      "%.1f deg, loop search %.2f s of %.2f s\n",
+      "of %d proposed, %d stopped by the probe), %d reverted, %d rejected, "
+      "largest correction %.2f m %.1f deg, loop search %.2f s of %.2f s\n",
       rmse, PositionRmse(data.odometry, data.truth), s.closures_accepted,
       s.closures_proposed, s.global_closures_accepted,
-      s.global_closures_proposed, s.closures_reverted, s.closures_rejected,
-      s.largest_correction_m, s.largest_correction_deg, s.loop_seconds,
+      s.global_closures_proposed, s.global_searches_probe_stopped,
+      s.closures_reverted, s.closures_rejected, s.largest_correction_m,
+      s.largest_correction_deg, s.loop_seconds,
       s.matching_seconds + s.loop_seconds + s.optimization_seconds +
           s.refine_seconds);
   return rmse;
@@ -486,8 +487,9 @@ TEST(LaserSlamTest, RevisitAfterLongExcursionIsClosed) {
 // wrong closure's. No map can be right with the wrong field of view, so
 // the test measures what the Freiburg relations measured: the relative
 // pose of each scan of the first 20 m and the scan at the same place one
-// lap later (0.57 m now: the biased scan matches still pull the closed
-// map apart a little).
+// lap later (0.020 m mean, 0.051 m worst now, with three global closures;
+// 0.57 m while the correlative search's bounds dropped the query points
+// sticking out of the place's submap and only local closures closed it).
 TEST(LaserSlamTest, RevisitAfterDriftThroughBiasedScanMatchesIsClosed) {
   LogFaults faults;
   faults.turn_steps = 3;

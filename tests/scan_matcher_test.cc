@@ -112,6 +112,32 @@ TEST(ScanMatcherTest, CorrelativeBranchAndBoundEqualsExhaustiveSearch) {
   EXPECT_NEAR(bb.theta, ex.theta, 1e-12);
 }
 
+// The same where the source reaches beyond the target's lower-left edge
+// (partial overlap, as a loop query sticking out of a place's submap): a
+// wall 2 m long and the same wall seen 1.5 m to the left, searched over
+// +-2 m with six levels. The bound of a block of offsets must count the
+// points that land on the grid only for the block's larger offsets; it
+// dropped them and pruned the match (score 0 against 0.88).
+TEST(ScanMatcherTest, CorrelativeBranchAndBoundEqualsExhaustiveSearchAtTheEdge) {
+  Points2 wall, seen;
+  for (int i = 0; i <= 100; ++i) wall.emplace_back(0.02 * i, 0.0);
+  for (int i = 0; i <= 20; ++i) seen.emplace_back(-1.5 + 0.1 * i, 0.0);
+  MatchTarget target;
+  target.Build(wall, 0.3, 0.15);
+  CorrelativeOptions c;
+  c.window_xy = 2.0;
+  c.window_theta = 0.0;
+  c.levels = 6;
+  double score = 0.0;
+  const Pose2 bb = target.Correlative(seen, Pose2(), c, &score);
+  c.levels = 0;
+  double exhaustive_score = 0.0;
+  target.Correlative(seen, Pose2(), c, &exhaustive_score);
+  EXPECT_GT(exhaustive_score, 0.8);
+  EXPECT_NEAR(score, exhaustive_score, 1e-9);
+  EXPECT_NEAR(bb.t.x(), 1.5, 0.06);
+}
+
 // A minimum score only prunes: below the best score the answer is the
 // same; above it, the search reports nothing (initial pose, score 0).
 // A correlative search case: a guess 0.36 m and 0.1 rad from the truth, a
@@ -180,6 +206,82 @@ TEST(ScanMatcherTest, CorrelativeWorkBoundStopsTheSearch) {
   const Pose2 early = t.f.target.Correlative(source, t.guess, t.c, &score);
   EXPECT_GT(score, 0.5 * t.score);
   EXPECT_LT((early.t - t.f.truth.t).norm(), 0.1);
+}
+
+// The probe of the correlative search (CorrelativeOptions::
+// probe_evaluations), as loop closure uses it for global candidates: a
+// scan of the room searched as a global candidate (3 m, 0.21 rad, six
+// levels, minimum score 0.3) at the right place and at a wrong one (a room
+// of the same size cluttered with boxes).
+// - Wrong place: no pose reaches the minimum score, and the exact search
+//   spends 4e5 look-ups proving it (its bounds are loose: most points lie
+//   near some box); with the probe it stops just past the probe (5e4)
+//   with the same answer, nothing.
+// - Right place (guesses 1.1 m / 0.03 rad and 0.36 m / 0.1 rad off): a
+//   pose reaching the score is found within the probe (the peak dominates
+//   the bounds), so the search goes on and its answer is the exact
+//   search's. (Not always: the depth-first order can reach the peak late,
+//   e.g. 4e5 look-ups from 1.5 m off; the probe is set from where true
+//   revisits are found, laser_slam.h.)
+TEST(ScanMatcherTest, CorrelativeProbeStopsAtAWrongPlaceAndKeepsTheRightOne) {
+  CorrelativeCase t = MakeCorrelativeCase();
+  std::vector<Wall> clutter = RectangleWalls(-6, -4, 6, 4);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int i = 0; i < 25; ++i) {
+    const double x = -5.5 + 10.5 * u(rng);
+    const double y = -3.5 + 6.5 * u(rng);
+    const double w = 0.2 + 0.4 * u(rng);
+    const double h = 0.2 + 0.4 * u(rng);
+    for (const Wall& wall : RectangleWalls(x, y, x + w, y + h)) {
+      clutter.push_back(wall);
+    }
+  }
+  MatchTarget wrong;
+  wrong.Build(VoxelFilter(Scan(clutter, Pose2(0.5, -0.3, 0.2), 0.01, &rng, 0.0,
+                               2 * M_PI - 0.1),
+                          0.03),
+              0.3, 0.15);
+  CorrelativeOptions exact = t.c;
+  exact.window_xy = 3.0;
+  exact.window_theta = 0.21;
+  exact.levels = 6;
+  exact.min_score = 0.3;
+  CorrelativeOptions probed = exact;
+  probed.probe_evaluations = 5e4;
+  const Points2 source = VoxelFilter(t.f.source, 0.2);
+  struct Place {
+    const MatchTarget* target;
+    Pose2 guess;
+    bool right;
+  };
+  for (const Place& place :
+       {Place{&t.f.target, t.f.truth * Pose2(1.0, -0.5, 0.03), true},
+        Place{&t.f.target, t.guess, true},
+        Place{&wrong, Pose2(0.5, 0.2, 0.1), false}}) {
+    double exact_score = 0.0, score = 0.0;
+    CorrelativeWork exact_work, work;
+    const Pose2 best = place.target->Correlative(source, place.guess, exact,
+                                                 &exact_score, &exact_work);
+    const Pose2 pose =
+        place.target->Correlative(source, place.guess, probed, &score, &work);
+    EXPECT_FALSE(exact_work.probe_stopped);
+    EXPECT_EQ(work.probe_stopped, !place.right);
+    EXPECT_EQ(score, exact_score);
+    EXPECT_LT((pose.t - best.t).norm(), 1e-12);
+    EXPECT_NEAR(pose.theta, best.theta, 1e-12);
+    if (place.right) {
+      EXPECT_GT(score, 0.4);
+      EXPECT_LT((pose.t - t.f.truth.t).norm(), 0.1);
+      EXPECT_EQ(work.evaluations, exact_work.evaluations);
+    } else {
+      EXPECT_EQ(exact_score, 0.0);
+      EXPECT_GT(exact_work.evaluations, 5 * probed.probe_evaluations);
+      // Past the probe by at most one expansion (4 children).
+      EXPECT_LT(work.evaluations,
+                probed.probe_evaluations + 4.0 * source.size());
+    }
+  }
 }
 
 TEST(ScanMatcherTest, IcpFailsWithoutOverlap) {

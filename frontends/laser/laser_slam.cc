@@ -531,6 +531,7 @@ bool LaserSlam::DetectLoopClosures(int k) {
       search.window_theta =
           std::min(search.window_theta,
                    4.0 * M_PI / std::max(1, config_.loop_context.sectors));
+      search.probe_evaluations = config_.loop_global_probe_evaluations;
       ++stats_.global_closures_proposed;
       bool passed = false;
       VerifyLoop(k, place.index, Pose2(0.0, 0.0, place.rotation), &search, true,
@@ -576,8 +577,14 @@ bool LaserSlam::VerifyLoop(int k, int j, const Pose2& guess,
     CorrelativeOptions options = *search;
     options.min_score = std::max(options.min_score, config_.loop_min_score);
     clock = std::chrono::steady_clock::now();
-    coarse = target.Correlative(search_query, guess, options, &score);
+    CorrelativeWork work;
+    coarse = target.Correlative(search_query, guess, options, &score, &work);
     stats_.loop_correlative_seconds += Seconds(clock);
+    if (global) {
+      stats_.global_search_evaluations += work.evaluations;
+      stats_.global_searches_probe_stopped += work.probe_stopped ? 1 : 0;
+      stats_.global_searches_budget_stopped += work.budget_stopped ? 1 : 0;
+    }
     if (score < config_.loop_min_score) return false;
   }
   clock = std::chrono::steady_clock::now();

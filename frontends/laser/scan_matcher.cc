@@ -343,7 +343,12 @@ void MatchTarget::BuildLikelihood(const CorrelativeOptions& options,
   l.valid_lo = (want_lo.array() - 5.0).matrix().cwiseMax(target_lo);
   l.valid_hi = (want_hi.array() + 5.0).matrix().cwiseMin(target_hi);
   l.valid_hi = l.valid_hi.cwiseMax(l.valid_lo);
-  l.origin = l.valid_lo;
+  // Level l bounds the offsets [d, d + 2^l) by the block of cells starting
+  // at a point's cell for offset d: a point below or left of the valid part
+  // for offset d can land in it for a larger offset of the block, so the
+  // grids start 2^levels - 1 cells lower (zero there), else the block's
+  // bound would drop that point and prune poses scoring more than it.
+  l.origin = (l.valid_lo.array() - ((1 << l.levels) - 1) * res).matrix();
   l.width = static_cast<int>((l.valid_hi.x() - l.origin.x()) / res) + 2;
   l.height = static_cast<int>((l.valid_hi.y() - l.origin.y()) / res) + 2;
   l.pyramid.assign(
@@ -395,9 +400,10 @@ void MatchTarget::BuildLikelihood(const CorrelativeOptions& options,
 }
 
 Pose2 MatchTarget::Correlative(const Points2& source, const Pose2& initial,
-                               const CorrelativeOptions& options,
-                               double* score) const {
+                               const CorrelativeOptions& options, double* score,
+                               CorrelativeWork* work) const {
   *score = 0.0;
+  if (work != nullptr) *work = CorrelativeWork();
   if (points_.empty() || source.empty()) return initial;
   double source_reach = 0.0;
   for (const Eigen::Vector2d& p : source) {
@@ -430,6 +436,11 @@ Pose2 MatchTarget::Correlative(const Points2& source, const Pose2& initial,
   const double budget = options.max_evaluations > 0
                             ? options.max_evaluations
                             : std::numeric_limits<double>::infinity();
+  const double probe = options.probe_evaluations > 0 && options.min_score > 0
+                           ? options.probe_evaluations
+                           : std::numeric_limits<double>::infinity();
+  bool found = false;  // A pose reaching min_score has been scored.
+  bool probe_stopped = false;
   auto sum = [&](const std::vector<float>& grid, int a, int dx, int dy) {
     evaluations += static_cast<double>(n);
     double s = 0.0;
@@ -461,11 +472,16 @@ Pose2 MatchTarget::Correlative(const Points2& source, const Pose2& initial,
         for (const Candidate& c : candidates) {
           if (c.upper <= best || evaluations > budget) break;
           if (level == 0) {
+            found = true;
             best = c.upper;
             best_a = c.angle;
             best_dx = c.dx;
             best_dy = c.dy;
             continue;
+          }
+          if (!found && evaluations > probe) {
+            probe_stopped = true;
+            break;
           }
           const int half = 1 << (level - 1);
           std::vector<Candidate> children;
@@ -490,6 +506,11 @@ Pose2 MatchTarget::Correlative(const Points2& source, const Pose2& initial,
     }
   }
   search(roots, top);
+  if (work != nullptr) {
+    work->evaluations = evaluations;
+    work->probe_stopped = probe_stopped;
+    work->budget_stopped = evaluations > budget;
+  }
   if (options.min_score > 0 && !(best > min_sum)) return initial;
   *score = std::max(0.0, best) / static_cast<double>(n);
   return Pose2(initial.t.x() + best_dx * res, initial.t.y() + best_dy * res,

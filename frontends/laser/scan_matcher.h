@@ -87,6 +87,21 @@ struct CorrelativeOptions {
   // search is exact). Wide windows where nothing fits well prune little
   // and cost tens of times a typical search.
   double max_evaluations = 0.0;
+  // Probe (with min_score > 0): a search that has scored no pose reaching
+  // min_score after this many look-ups stops there and reports nothing
+  // (the initial pose, score 0); 0: no probe. The depth-first order
+  // descends into the branches of highest bound first: where the place is
+  // right, the peak dominates the bounds and a pose reaching the score is
+  // found early, and where it is wrong most of the work goes into proving
+  // that none does (loose bounds over a wide window), up to the work bound.
+  double probe_evaluations = 0.0;
+};
+
+// What a correlative search did.
+struct CorrelativeWork {
+  double evaluations = 0.0;     // Likelihood look-ups.
+  bool probe_stopped = false;   // Stopped by probe_evaluations.
+  bool budget_stopped = false;  // Stopped by max_evaluations.
 };
 
 struct MatchResult {
@@ -139,9 +154,11 @@ class MatchTarget {
                   const IcpPrior* prior = nullptr) const;
 
   // Best pose on the search lattice around `initial` by the correlative
-  // score (mean likelihood of the source points); writes the score.
+  // score (mean likelihood of the source points); writes the score (and
+  // what the search did, when `work` is given).
   Pose2 Correlative(const Points2& source, const Pose2& initial,
-                    const CorrelativeOptions& options, double* score) const;
+                    const CorrelativeOptions& options, double* score,
+                    CorrelativeWork* work = nullptr) const;
 
   // Correlative search, then ICP from its result.
   MatchResult Match(const Points2& source, const Pose2& initial,
