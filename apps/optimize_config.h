@@ -10,7 +10,7 @@
 //     parameter_tolerance: 1e-10
 //     initial_trust_region_radius: 1e12
 //     nonmonotonic_steps: false
-//     gauss_newton_probe_iterations: 10  # after LM rejects its first 4
+//     gauss_newton_probe_iterations: 20  # after LM rejects its first 4
 //                           # steps on a pose graph (core/optimizer.h)
 //     linear_solver: auto   # auto | sparse_normal_cholesky | sparse_schur |
 //                           # dense_schur | iterative_schur | dense_qr | ...

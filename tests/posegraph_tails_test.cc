@@ -1,6 +1,6 @@
 // No slow tails on pose graphs with heavy heading noise (issue 27): grid
 // worlds from the simulator (Manhattan-like, as M3500) whose heading
-// measurements carry 0.1-0.3 rad of noise, solved from the default start
+// measurements carry 0.2-0.3 rad of noise, solved from the default start
 // (chordal initialization, default optimizer options), must reach the
 // optimum of a long LM run within a few iterations. The failure this guards
 // against: LM rejects its first steps from the chordal start, the
@@ -68,37 +68,54 @@ Graph MakeGraph(const Case& c) {
   return graph;
 }
 
+// Solves the case from the default start and from a long LM run; requires
+// <= 15 iterations and the long run's optimum (1e-6 relative).
+void ExpectFewIterationsToTheOptimum(const Case& c) {
+  Graph fast = MakeGraph(c);
+  Graph reference = MakeGraph(c);
+  OptimizerOptions options;
+  options.verbose = false;
+  const OptimizerSummary summary = Optimize(&fast, options, nullptr);
+  // The optimum by a long run: LM alone, tight tolerances.
+  OptimizerOptions long_run = options;
+  long_run.gauss_newton_probe_iterations = 0;
+  long_run.max_iterations = 1000;
+  long_run.function_tolerance = 1e-12;
+  long_run.gradient_tolerance = 1e-14;
+  long_run.parameter_tolerance = 1e-12;
+  const OptimizerSummary best = Optimize(&reference, long_run, nullptr);
+  std::printf(
+      "seed %d sigma %.2f%s: chordal chi2 %.6g, default %d iterations "
+      "(%d Gauss-Newton/Newton) -> %.10g; long run %d -> %.10g\n",
+      static_cast<int>(c.seed), c.sigma_rotation,
+      c.overconfident ? " (overconfident)" : "", summary.initial_chi2,
+      summary.iterations, summary.gauss_newton_iterations, summary.final_chi2,
+      best.iterations, best.final_chi2);
+  EXPECT_TRUE(summary.converged) << summary.termination;
+  EXPECT_LE(summary.iterations, 15) << "seed " << c.seed;
+  EXPECT_NEAR(summary.final_chi2, best.final_chi2, 1e-6 * best.final_chi2)
+      << "seed " << c.seed;
+}
+
 TEST(PoseGraphTailsTest, HeavyHeadingNoiseConvergesInFewIterations) {
   const Case cases[] = {
       {1, 0.2, false}, {2, 0.2, false}, {3, 0.2, false},
       {1, 0.3, true},  {2, 0.3, true},  {3, 0.3, true},
   };
-  for (const Case& c : cases) {
-    Graph fast = MakeGraph(c);
-    Graph reference = MakeGraph(c);
-    OptimizerOptions options;
-    options.verbose = false;
-    const OptimizerSummary summary = Optimize(&fast, options, nullptr);
-    // The optimum by a long run: LM alone, tight tolerances.
-    OptimizerOptions long_run = options;
-    long_run.gauss_newton_probe_iterations = 0;
-    long_run.max_iterations = 1000;
-    long_run.function_tolerance = 1e-12;
-    long_run.gradient_tolerance = 1e-14;
-    long_run.parameter_tolerance = 1e-12;
-    const OptimizerSummary best = Optimize(&reference, long_run, nullptr);
-    std::printf(
-        "seed %d sigma %.1f%s: chordal chi2 %.6g, default %d iterations "
-        "(%d Gauss-Newton) -> %.10g; long run %d -> %.10g\n",
-        static_cast<int>(c.seed), c.sigma_rotation,
-        c.overconfident ? " (overconfident)" : "", summary.initial_chi2,
-        summary.iterations, summary.gauss_newton_iterations, summary.final_chi2,
-        best.iterations, best.final_chi2);
-    EXPECT_TRUE(summary.converged) << summary.termination;
-    EXPECT_LE(summary.iterations, 15) << "seed " << c.seed;
-    EXPECT_NEAR(summary.final_chi2, best.final_chi2, 1e-6 * best.final_chi2)
-        << "seed " << c.seed;
-  }
+  for (const Case& c : cases) ExpectFewIterationsToTheOptimum(c);
+}
+
+// 0.3 rad of heading noise with consistent information (and the worst seed
+// of the overconfident family): Gauss-Newton's model drops a second-order
+// term of the order of J^T J along the weak rotation modes, and LM tailed
+// linearly near the optimum (seed 1: 27 iterations, seed 5 overconfident
+// 16) until the probe took Newton steps (core/optimizer.cc, NewtonStep).
+TEST(PoseGraphTailsTest, ConsistentHeavyHeadingNoiseHasNoLinearTail) {
+  const Case cases[] = {
+      {1, 0.3, false}, {2, 0.3, false},  {3, 0.3, false},
+      {4, 0.3, false}, {1, 0.25, false}, {5, 0.3, true},
+  };
+  for (const Case& c : cases) ExpectFewIterationsToTheOptimum(c);
 }
 
 }  // namespace
