@@ -222,10 +222,10 @@ TEST(StereoFeaturesTest, KeypointsOfEveryOctaveMoveWithTheImage) {
   EXPECT_GT(e.corners[4], 300);
 }
 
-// Only the corners the grid bucketing keeps are described (ORB's compute()
-// on them, which groups them by pyramid level): every kept keypoint must
-// carry the descriptor detectAndCompute gives the same corner, the
-// strongest first.
+// Only the corners the grid bucketing keeps are described (on a pyramid
+// built once, each level by a single-level ORB): every kept keypoint must be
+// a corner OpenCV's multi-level detectAndCompute finds, with its descriptor,
+// the strongest first.
 TEST(StereoFeaturesTest, KeptCornersCarryOrbsOwnDescriptors) {
   std::mt19937 rng(3);
   const cv::Mat image =

@@ -5,7 +5,10 @@
 //     (scale_factor, levels), at most max_features, spread evenly: the image
 //     is cut into cells of cell_size pixels and each cell keeps its
 //     max_per_cell strongest corners (grid bucketing), so that texture-rich
-//     areas do not take every feature; then the rotated BRIEF descriptors.
+//     areas do not take every feature; then the rotated BRIEF descriptors
+//     of the kept corners only. The pyramid is built once (each level then
+//     an ORB of one level, see DetectAndDescribe): the corners and
+//     descriptors are those of OpenCV's multi-level ORB.
 //  2. Stereo correspondence for every left keypoint: the right keypoints
 //     within row_tolerance * scale^octave rows, of a neighbouring octave,
 //     at a disparity in [min_disparity, max_disparity]; the one with the
@@ -34,6 +37,7 @@
 #define SLAM_FRONTENDS_STEREO_STEREO_FEATURES_H_
 
 #include <string>
+#include <vector>
 
 #include <opencv2/features2d.hpp>
 
@@ -97,7 +101,10 @@ class StereoFeatureExtractor {
  private:
   StereoFeatureConfig config_;
   StereoCalibration calibration_;
-  cv::Ptr<cv::Feature2D> orb_;
+  // One single-level ORB per pyramid level, asked for the corners OpenCV's
+  // multi-level ORB would keep on that level (see DetectAndDescribe).
+  std::vector<cv::Ptr<cv::Feature2D>> level_orbs_;
+  std::vector<float> level_scales_;  // scale_factor^level, as ORB's float.
 };
 
 }  // namespace slam

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <future>
 #include <limits>
 #include <map>
 #include <memory>
@@ -664,10 +665,52 @@ void StereoOdometry::RemoveOutlierObservations(
   }
 }
 
+// Step 8's problem and what to do after it. On its thread the problem
+// works on `values` (copies of the graph values of its blocks, in the order
+// they enter it), written back at the merge.
+struct StereoOdometry::LocalBaJob {
+  int64_t newest = 0;
+  std::vector<int64_t> points;  // For the outlier test after the solve.
+  std::unique_ptr<ceres::Problem> problem;
+  ceres::Solver::Options options;
+  std::vector<double> values;
+  struct Block {
+    double* graph_value;
+    size_t offset;
+    size_t size;
+  };
+  std::vector<Block> blocks;
+  void Solve() {
+    if (problem == nullptr) return;
+    ceres::Solver::Summary summary;
+    ceres::Solve(options, problem.get(), &summary);
+  }
+};
+
+StereoOdometry::StereoOdometry(StereoOdometry&&) noexcept = default;
+
+StereoOdometry::~StereoOdometry() {
+  if (local_ba_done_.valid()) local_ba_done_.wait();
+}
+
+void StereoOdometry::WaitForLocalMapping() {
+  if (!local_ba_done_.valid()) return;
+  local_ba_done_.get();
+  LocalBaJob& job = *local_ba_job_;
+  for (const LocalBaJob::Block& b : job.blocks) {
+    std::copy(job.values.begin() + b.offset,
+              job.values.begin() + b.offset + b.size, b.graph_value);
+  }
+  CompleteLocalBundleAdjustment(job);
+  local_ba_job_.reset();
+}
+
 void StereoOdometry::LocalBundleAdjustment(int64_t newest) {
+  auto job = std::make_unique<LocalBaJob>();
+  job->newest = newest;
   const int64_t first =
       std::max<int64_t>(0, newest + 1 - config_.window_keyframes);
-  std::vector<int64_t> points;
+  std::vector<int64_t>& points = job->points;
   for (int64_t k = first; k <= newest; ++k) {
     for (int64_t p : keyframes_[k].point_of_keypoint) {
       if (p >= 0 && point_alive_[p]) points.push_back(p);
@@ -675,64 +718,107 @@ void StereoOdometry::LocalBundleAdjustment(int64_t newest) {
   }
   std::sort(points.begin(), points.end());
   points.erase(std::unique(points.begin(), points.end()), points.end());
+  const bool thread = config_.local_mapping_thread;
   if (config_.local_ba_iterations > 0 && newest > 0) {
-    ceres::Problem problem(Graph::ProblemOptions());
-    auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
-    const ceres::Manifold* manifold = graph_.ManifoldFor(NodeKind::kPose3);
+    // The residual blocks first, then (on the thread) the copies of their
+    // values, in one array in the order the blocks enter the problem.
+    std::vector<const Factor*> factors;
+    std::vector<std::vector<double*>> factor_blocks;
+    std::vector<bool> factor_pose;  // Both blocks poses (step 7's factor).
     std::vector<int64_t> fixed;
+    auto add = [&](const Factor* f, bool all_poses) {
+      factors.push_back(f);
+      factor_blocks.push_back(graph_.ParameterBlocks(*f));
+      factor_pose.push_back(all_poses);
+    };
     for (int64_t p : points) {
       if (!points_[p].confirmed && points_[p].observations.size() < 2)
         continue;  // Nothing fixes its depth yet.
       for (const Observation& o : points_[p].observations) {
         const Factor* f = graph_.FindFactor(o.factor);
-        std::vector<double*> blocks = graph_.ParameterBlocks(*f);
-        problem.AddResidualBlock(f->cost.get(), f->loss.get(), blocks);
-        if (!ordering->IsMember(blocks[0])) {
-          problem.SetManifold(blocks[0],
-                              const_cast<ceres::Manifold*>(manifold));
-          ordering->AddElementToGroup(blocks[0], 1);
-          if (o.keyframe < first) fixed.push_back(o.keyframe);
-        }
-        if (!ordering->IsMember(blocks[1])) {
-          ordering->AddElementToGroup(blocks[1], 0);
-        }
+        add(f, false);
+        if (o.keyframe < first) fixed.push_back(o.keyframe);
       }
     }
     // The tracking between consecutive keyframes of the window (step 7).
     for (int64_t k = std::max<int64_t>(first, 1); k <= newest; ++k) {
       if (odometry_factor_[k] < 0) continue;
-      const Factor* f = graph_.FindFactor(odometry_factor_[k]);
-      std::vector<double*> blocks = graph_.ParameterBlocks(*f);
-      problem.AddResidualBlock(f->cost.get(), f->loss.get(), blocks);
-      for (double* b : blocks) {
-        if (ordering->IsMember(b)) continue;
-        problem.SetManifold(b, const_cast<ceres::Manifold*>(manifold));
-        ordering->AddElementToGroup(b, 1);
-      }
+      add(graph_.FindFactor(odometry_factor_[k]), true);
       if (k - 1 < first) fixed.push_back(k - 1);
+    }
+    // The values the problem works on: the graph's, or copies.
+    std::map<double*, double*> copy;
+    if (thread) {
+      size_t total = 0;
+      for (size_t i = 0; i < factors.size(); ++i) {
+        for (size_t b = 0; b < factor_blocks[i].size(); ++b) {
+          double* v = factor_blocks[i][b];
+          if (!copy.emplace(v, nullptr).second) continue;
+          const size_t size =
+              graph_.FindNode(factors[i]->keys[b])->value.size();
+          job->blocks.push_back({v, total, size});
+          total += size;
+        }
+      }
+      job->values.resize(total);
+      for (const LocalBaJob::Block& b : job->blocks) {
+        double* c = job->values.data() + b.offset;
+        std::copy(b.graph_value, b.graph_value + b.size, c);
+        copy[b.graph_value] = c;
+      }
+    }
+    auto block = [&](double* v) { return thread ? copy.at(v) : v; };
+    job->problem = std::make_unique<ceres::Problem>(Graph::ProblemOptions());
+    ceres::Problem& problem = *job->problem;
+    auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
+    const ceres::Manifold* manifold = graph_.ManifoldFor(NodeKind::kPose3);
+    for (size_t i = 0; i < factors.size(); ++i) {
+      std::vector<double*> blocks;
+      for (double* v : factor_blocks[i]) blocks.push_back(block(v));
+      problem.AddResidualBlock(factors[i]->cost.get(), factors[i]->loss.get(),
+                               blocks);
+      for (size_t b = 0; b < blocks.size(); ++b) {
+        if (ordering->IsMember(blocks[b])) continue;
+        const bool pose = factor_pose[i] || b == 0;
+        if (pose) {
+          problem.SetManifold(blocks[b],
+                              const_cast<ceres::Manifold*>(manifold));
+        }
+        ordering->AddElementToGroup(blocks[b], pose ? 1 : 0);
+      }
     }
     std::sort(fixed.begin(), fixed.end());
     fixed.erase(std::unique(fixed.begin(), fixed.end()), fixed.end());
     for (int64_t k : fixed) {
       problem.SetParameterBlockConstant(
-          graph_.FindNode(Pose3Key(k))->value.data());
+          block(graph_.FindNode(Pose3Key(k))->value.data()));
     }
     // The gauge: held by the fixed keyframes, else by the oldest in the
     // window (and always by keyframe 0).
     if (fixed.empty() || first == 0) {
       double* oldest = graph_.FindNode(Pose3Key(first))->value.data();
-      if (problem.HasParameterBlock(oldest))
+      if (thread) oldest = copy.count(oldest) ? copy.at(oldest) : nullptr;
+      if (oldest != nullptr && problem.HasParameterBlock(oldest))
         problem.SetParameterBlockConstant(oldest);
     }
-    ceres::Solver::Options options =
+    job->options =
         SolverOptions(config_.local_ba_iterations, ceres::DENSE_SCHUR);
-    options.linear_solver_ordering = ordering;
-    ceres::Solver::Summary summary;
-    ceres::Solve(options, &problem, &summary);
+    job->options.linear_solver_ordering = ordering;
     ++stats_.local_bundle_adjustments;
   }
-  RemoveOutlierObservations(points);
-  const int64_t check = newest - config_.cull_after_keyframes;
+  if (thread) {
+    local_ba_job_ = std::move(job);
+    LocalBaJob* j = local_ba_job_.get();
+    local_ba_done_ = std::async(std::launch::async, [j] { j->Solve(); });
+    return;
+  }
+  job->Solve();
+  CompleteLocalBundleAdjustment(*job);
+}
+
+void StereoOdometry::CompleteLocalBundleAdjustment(const LocalBaJob& job) {
+  RemoveOutlierObservations(job.points);
+  const int64_t check = job.newest - config_.cull_after_keyframes;
   if (check >= 0) {
     for (int64_t p : keyframes_[check].created_points) CullPoint(p);
   }
@@ -768,8 +854,16 @@ void StereoOdometry::RemoveDeadPoints() {
 }
 
 StereoFrameResult StereoOdometry::AddFrame(const StereoFeatureFrame& frame) {
-  const auto start = std::chrono::steady_clock::now();
   StereoFrameResult result;
+  if (local_ba_done_.valid()) {
+    // The last keyframe's local BA (on its thread while this frame's
+    // features were extracted) in the map first: the waiting counts as
+    // local BA time.
+    const auto wait_start = std::chrono::steady_clock::now();
+    WaitForLocalMapping();
+    result.local_ba_ms = stereo::MillisecondsSince(wait_start);
+  }
+  const auto start = std::chrono::steady_clock::now();
   result.index = frame.index;
   ++stats_.frames;
   FrameRecord record;
@@ -912,7 +1006,7 @@ StereoFrameResult StereoOdometry::AddFrame(const StereoFeatureFrame& frame) {
     record.keyframe_to_frame = Pose3();
     result.keyframe = true;
     frames_since_keyframe_ = 0;
-    result.local_ba_ms = stereo::MillisecondsSince(ba_start);
+    result.local_ba_ms += stereo::MillisecondsSince(ba_start);
   } else {
     record.keyframe = last_id;
     record.keyframe_to_frame = from_last;
@@ -923,6 +1017,7 @@ StereoFrameResult StereoOdometry::AddFrame(const StereoFeatureFrame& frame) {
 }
 
 void StereoOdometry::Finish() {
+  WaitForLocalMapping();
   for (size_t p = 0; p < points_.size(); ++p) {
     // Far points seen by too few keyframes to be triangulated first.
     if (point_alive_[p] && !points_[p].confirmed) {
@@ -1015,6 +1110,7 @@ std::vector<StereoOdometry::PointTrack> StereoOdometry::PointTracks() const {
 namespace slam {
 
 void StereoOdometry::MoveKeyframes(const std::vector<Pose3>& poses) {
+  WaitForLocalMapping();
   std::vector<Pose3> corrections(keyframes_.size());
   for (size_t k = 0; k < keyframes_.size() && k < poses.size(); ++k) {
     Node* node = graph_.FindNode(Pose3Key(static_cast<int64_t>(k)));
@@ -1037,6 +1133,7 @@ FactorId StereoOdometry::AddKeyframeConstraint(
     int64_t candidate, int64_t query, const Pose3& measurement,
     const Eigen::Matrix<double, 6, 6>& information,
     std::shared_ptr<ceres::LossFunction> loss) {
+  WaitForLocalMapping();
   Factor factor;
   std::string error;
   if (!MakeBetweenSE3(Pose3Key(candidate), Pose3Key(query), measurement,

@@ -96,10 +96,24 @@
 //
 // Local BA (step 8) includes the relative-pose factors of step 7 between
 // the window's keyframes (the keyframe before the window held fixed).
+//
+// With local_mapping_thread (as ORB-SLAM's local mapping thread, but joined
+// at a fixed point), step 8 of a keyframe solves on a second thread, on
+// copies of the values it changes, and AddFrame returns at once; the next
+// AddFrame (or Finish, WaitForLocalMapping) first waits for it and merges
+// its result (the values, then the outlier observations removed and the
+// points culled), so that the map, and the trajectory, are those of the
+// run without the thread: what overlaps is the caller's work between the
+// two calls (the next frame's feature extraction and image decoding,
+// frontends/visual/visual_slam.h). Joined at the next keyframe instead
+// (ORB-SLAM), the frames between were tracked against the map before the
+// BA: on the KITTI 06 excerpt the end-point error went from 0.67 to 0.85 %
+// at half resolution and on the TUM RGB-D excerpt from 7.2 to 11.0 %.
 #ifndef SLAM_FRONTENDS_STEREO_STEREO_ODOMETRY_H_
 #define SLAM_FRONTENDS_STEREO_STEREO_ODOMETRY_H_
 
 #include <cstdint>
+#include <future>
 #include <memory>
 #include <string>
 #include <vector>
@@ -175,6 +189,7 @@ struct StereoOdometryConfig {
   int window_keyframes = 8;
   int local_ba_iterations = 10;
   int final_ba_iterations = 30;  // 0: no final global BA.
+  bool local_mapping_thread = false;  // Step 8 on a second thread (above).
 };
 
 bool ValidateStereoOdometryConfig(const StereoOdometryConfig& config,
@@ -221,10 +236,15 @@ class StereoOdometry {
   StereoOdometry(const StereoOdometryConfig& config,
                  const StereoCalibration& calibration, int image_width,
                  int image_height);
+  StereoOdometry(StereoOdometry&&) noexcept;
+  ~StereoOdometry();  // Waits for a local BA on its thread.
 
   StereoFrameResult AddFrame(const StereoFeatureFrame& frame);
   // The global bundle adjustment (step 9).
   void Finish();
+  // Merges the local BA running on its thread (local_mapping_thread), if any:
+  // call before reading or changing the map other than by AddFrame.
+  void WaitForLocalMapping();
 
   // Every frame's camera pose (T_world_camera, the first frame at the
   // origin), stamped, in frame order.
@@ -363,7 +383,11 @@ class StereoOdometry {
   bool IsClose(const StereoFeatureFrame& frame, size_t keypoint) const;
   int64_t AddKeyframe(const StereoFeatureFrame& frame, const Pose3& pose,
                       const std::vector<Match>& matches, int* new_points);
+  // Step 8: solved at once, or started on its thread (local_mapping_thread).
   void LocalBundleAdjustment(int64_t newest_keyframe);
+  struct LocalBaJob;
+  // After the solve: the outlier observations removed, points culled.
+  void CompleteLocalBundleAdjustment(const LocalBaJob& job);
   void RemoveOutlierObservations(const std::vector<int64_t>& points);
   void RemoveObservation(int64_t point, size_t observation);
   // Removes the point if fewer than min_point_observations keyframes see
@@ -394,6 +418,10 @@ class StereoOdometry {
   std::vector<FactorId> odometry_factor_;  // Per keyframe; -1: none.
   int frames_since_keyframe_ = 0;
   StereoOdometryStats stats_;
+  // The local BA on its thread (local_mapping_thread); the job outlives the
+  // future, which waits for the thread when destroyed.
+  std::unique_ptr<LocalBaJob> local_ba_job_;
+  std::future<void> local_ba_done_;
 };
 
 }  // namespace slam

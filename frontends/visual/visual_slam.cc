@@ -94,6 +94,8 @@ bool VisualSlam::Run(const VisualSlamCallbacks& callbacks,
       }
     }
   }
+  // The last keyframe's local BA, when on its thread, in the map first.
+  odometry_->WaitForLocalMapping();
   // Steps 3-4.
   if (config_.loop_closure.enabled &&
       !CloseLoops(callbacks, &vocabulary, result, error)) {
