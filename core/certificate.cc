@@ -245,12 +245,15 @@ class IsotropicEdgeCost final : public ceres::CostFunction {
 struct ReducedBlocks {
   int n = 0, d = 0;
   SpMat tt, tr, rr;  // M_tt (n-1)^2, M_tR (n-1) x dn, M_RR dn x dn.
-  Eigen::SimplicialLDLT<SpMat> tt_factor;
   // Fill-reducing elimination order of the nodes, shared by every sparse
-  // factorization of the certificate: the minimum-degree order that
-  // tt_factor computed on the translation Laplacian (the pose graph
-  // without node 0), node 0 last. position[i] is node i's place in it.
+  // factorization of the certificate: SuiteSparse's AMD on the translation
+  // Laplacian's pattern (the pose graph without node 0), node 0 last.
+  // position[i] is node i's place in it.
   std::vector<int> position;
+  // M_tt permuted to that order (tt_order: node i - 1 -> position[i]).
+  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> tt_order;
+  Eigen::SimplicialLDLT<SpMat, Eigen::Lower, Eigen::NaturalOrdering<int>>
+      tt_factor;
 };
 
 // Scalar permutations (old index -> new) that put the unknowns of the
@@ -303,11 +306,6 @@ bool SplitDataMatrix(const SpMat& m, int n, int d, ReducedBlocks* blocks,
   blocks->tr.setFromTriplets(tr.begin(), tr.end());
   blocks->rr.resize(d * n, d * n);
   blocks->rr.setFromTriplets(rr.begin(), rr.end());
-  blocks->tt_factor.compute(blocks->tt);
-  if (blocks->tt_factor.info() != Eigen::Success) {
-    *error = "the translation Laplacian cannot be factorized";
-    return false;
-  }
   // SuiteSparse's AMD on the pose graph (the Laplacian's pattern): as good
   // as CHOLMOD's own AMD on the scalar matrices (sphere2500's Newton factor
   // 3.98e8 flops against 3.97e8; Eigen's AMD on the pose graph 5.6e8).
@@ -319,6 +317,18 @@ bool SplitDataMatrix(const SpMat& m, int n, int d, ReducedBlocks* blocks,
   }
   blocks->position.assign(n, n - 1);
   for (int k = 0; k < n - 1; ++k) blocks->position[order[k] + 1] = k;
+  blocks->tt_order.resize(n - 1);
+  for (int i = 1; i < n; ++i) {
+    blocks->tt_order.indices()[i - 1] = blocks->position[i];
+  }
+  SpMat permuted(n - 1, n - 1);  // Lower triangle, as tt_factor reads it.
+  permuted.selfadjointView<Eigen::Lower>() =
+      blocks->tt.selfadjointView<Eigen::Lower>().twistedBy(blocks->tt_order);
+  blocks->tt_factor.compute(permuted);
+  if (blocks->tt_factor.info() != Eigen::Success) {
+    *error = "the translation Laplacian cannot be factorized";
+    return false;
+  }
   return true;
 }
 
@@ -326,7 +336,8 @@ bool SplitDataMatrix(const SpMat& m, int n, int d, ReducedBlocks* blocks,
 Eigen::MatrixXd OptimalTranslations(const ReducedBlocks& b,
                                     const Eigen::MatrixXd& y) {
   const Eigen::MatrixXd rest =
-      -b.tt_factor.solve(Eigen::MatrixXd(b.tr * y.transpose()));
+      -(b.tt_order.transpose() *
+        b.tt_factor.solve(b.tt_order * Eigen::MatrixXd(b.tr * y.transpose())));
   Eigen::MatrixXd t = Eigen::MatrixXd::Zero(y.rows(), b.n);
   t.rightCols(b.n - 1) = rest.transpose();
   return t;
