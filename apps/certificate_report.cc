@@ -125,6 +125,9 @@ bool CertifyIfAsked(Graph* graph, const OptimizerOptions& options,
       .Add("eigen_seconds", c.eigen_seconds)
       .Add("escaped", escaped)
       .Add("seconds", seconds);
+  JsonObject phases;
+  for (const auto& [name, s] : c.phase_seconds) phases.Add(name, s);
+  json->Add("phase_seconds", phases);
   if (escaped) {
     json->Add("escape_chi2", escape_chi2)
         .Add("escape_iterations", escape_iterations);

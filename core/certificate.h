@@ -30,6 +30,7 @@
 #define SLAM_CORE_CERTIFICATE_H_
 
 #include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -108,6 +109,10 @@ struct CertificateResult {
   double seconds = 0.0;
   double refine_seconds = 0.0;  // Of which refining to a critical point.
   double eigen_seconds = 0.0;   // ... and finding lambda_min.
+  // Where the time went, by phase (build, split, linearize, assemble,
+  // factorize, cg, line_search, lambda, k_assemble, k_factorize, lanczos,
+  // ...), summed over the calls.
+  std::map<std::string, double> phase_seconds;
   // The given values against the refined critical point of f (rank d only):
   // largest rotation difference (radians) and RMS translation difference.
   double max_rotation_difference = 0.0;
@@ -164,7 +169,8 @@ Eigen::MatrixXd RetractIsotropic(const IsotropicProblem& p,
 // level) instead of confirming that with one more linearization and solve.
 int NewtonRefine(const IsotropicProblem& p,
                  const Eigen::SparseMatrix<double>& m, int max_iterations,
-                 Eigen::MatrixXd* y, bool stop_early = false);
+                 Eigen::MatrixXd* y, bool stop_early = false,
+                 std::map<std::string, double>* phase_seconds = nullptr);
 
 // Certifies the graph's current values: refines them to a critical point
 // of f (rank d) and certifies that.
