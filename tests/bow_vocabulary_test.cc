@@ -401,6 +401,10 @@ TEST(VocabularyTest, BadDbow2YamlNamesTheProblem) {
       {replace("wordId:1, nodeId:2", "wordId:1, nodeId:3"), "does not match"},
       {"%YAML:1.0\n---\nfoo: 1\n", "no 'vocabulary'"},
       {"%YAML:1.0\n---\nvocabulary: [1, 2\n", "cannot parse"},
+      // fuzz_visual's finding: OpenCV 4.6's parser never returns on it.
+      {"%YAML:1.odes:\n      - { nodeId:1 }\n   \x90   - { nodeId:2 }\n",
+       ":3: byte 0x90 is not ASCII text"},
+      {replace("vocabulary:", "vocabulary:\x01"), "byte 0x01 is not ASCII"},
   };
   for (size_t i = 0; i < cases.size(); ++i) {
     const std::string path = dir + "/bad" + std::to_string(i) + ".yml";

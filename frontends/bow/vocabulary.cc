@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <limits>
 #include <random>
@@ -610,6 +611,23 @@ bool Vocabulary::ParseBinary(std::string_view bytes, const std::string& where,
 bool Vocabulary::LoadDbow2Yaml(const std::string& path, std::string* error) {
   std::string yaml;
   if (!ReadYamlText(path, &yaml, error)) return false;
+  // A DBoW2 vocabulary is ASCII text. OpenCV 4.6's YAML parser loops
+  // forever on some other bytes where it expects indentation (found by
+  // fuzz_visual: a 0x90 byte before a sequence item), so anything but
+  // printable ASCII, tab and line ends is rejected before it sees the text.
+  size_t line = 1;
+  for (const char c : yaml) {
+    const auto b = static_cast<unsigned char>(c);
+    if (b == '\n') {
+      ++line;
+    } else if ((b < 0x20 && b != '\t' && b != '\r') || b > 0x7e) {
+      char hex[8];
+      std::snprintf(hex, sizeof(hex), "0x%02x", b);
+      *error = path + ":" + std::to_string(line) + ": byte " + hex +
+               " is not ASCII text (a DBoW2 YAML vocabulary is ASCII)";
+      return false;
+    }
+  }
   try {
     cv::FileStorage fs(yaml, cv::FileStorage::READ | cv::FileStorage::MEMORY |
                                  cv::FileStorage::FORMAT_YAML);
