@@ -272,5 +272,112 @@ TEST(StereoFeaturesTest, KeptCornersCarryOrbsOwnDescriptors) {
   EXPECT_GE(octaves_seen, 3);  // Corners of several levels, mixed.
 }
 
+// A rendered wall whose right half has a tenth of the contrast: FAST scores
+// there fall below fast_threshold (12) but not below min_fast_threshold.
+cv::Mat HalfFaintImage() {
+  std::mt19937 rng(5);
+  cv::Mat image = View(RenderWorld(640, 185, 4), 0.0, 613, 185, 0.0, &rng);
+  for (int y = 0; y < image.rows; ++y) {
+    for (int x = image.cols / 2; x < image.cols; ++x) {
+      uchar& p = image.at<uchar>(y, x);
+      p = cv::saturate_cast<uchar>(128 + 0.1 * (p - 128));
+    }
+  }
+  return image;
+}
+
+// Textured cells (of cell_size pixels, with a FAST corner of score >=
+// min_fast_threshold at least 19 pixels, ORB's border, inside the image)
+// that have no octave-0 keypoint, in the left and in the right half.
+std::pair<int, int> CellsWithoutOctaveZero(const StereoFeatureConfig& config,
+                                           const cv::Mat& image) {
+  const StereoCalibration calibration{353.5, 353.5, 306.0, 92.0, 0.54};
+  const StereoFeatureExtractor extractor(config, calibration);
+  std::vector<cv::KeyPoint> keypoints;
+  cv::Mat descriptors;
+  extractor.DetectAndDescribe(image, &keypoints, &descriptors);
+  std::vector<cv::KeyPoint> corners;
+  cv::FAST(image, corners, config.min_fast_threshold, true);
+  cv::KeyPointsFilter::runByImageBorder(corners, image.size(), 19);
+  const int c = config.cell_size;
+  std::pair<int, int> empty{0, 0};
+  for (int y0 = 0; y0 + c <= image.rows; y0 += c) {
+    for (int x0 = 0; x0 + c <= image.cols; x0 += c) {
+      if (x0 < image.cols / 2 && x0 + c > image.cols / 2) continue;
+      bool textured = false, found = false;
+      for (const cv::KeyPoint& k : corners) {
+        textured = textured || (k.pt.x >= x0 && k.pt.x < x0 + c &&
+                                k.pt.y >= y0 && k.pt.y < y0 + c);
+      }
+      if (!textured) continue;
+      for (const cv::KeyPoint& k : keypoints) {
+        found = found || (k.octave == 0 && k.pt.x >= x0 && k.pt.x < x0 + c &&
+                          k.pt.y >= y0 && k.pt.y < y0 + c);
+      }
+      if (!found) ++(x0 < image.cols / 2 ? empty.first : empty.second);
+    }
+  }
+  return empty;
+}
+
+// The per-cell detection gives every textured cell corners at octave 0,
+// the faint ones included (OpenCV's ORB keeps a level's strongest corners
+// over the whole image: the faint half gets none at octave 0).
+TEST(StereoFeaturesTest, GridFastGivesEveryTexturedCellOctaveZeroCorners) {
+  const cv::Mat image = HalfFaintImage();
+  StereoFeatureConfig config;
+  const std::pair<int, int> orb = CellsWithoutOctaveZero(config, image);
+  std::printf("ORB: cells without octave-0 corners %d left, %d right\n",
+              orb.first, orb.second);
+  EXPECT_GT(orb.second, 10);  // The mechanism the grid detection mends.
+  config.grid_fast = true;
+  const std::pair<int, int> grid = CellsWithoutOctaveZero(config, image);
+  std::printf("grid: cells without octave-0 corners %d left, %d right\n",
+              grid.first, grid.second);
+  EXPECT_EQ(grid.first, 0);
+  EXPECT_EQ(grid.second, 0);
+}
+
+// The grid detection's corners at octave 0 are OpenCV's ORB corners of the
+// same image (FAST at min_fast_threshold), with ORB's Harris response,
+// orientation and descriptor.
+TEST(StereoFeaturesTest, GridFastCornersCarryOrbsOwnAnglesAndDescriptors) {
+  const cv::Mat image = HalfFaintImage();
+  StereoFeatureConfig config;
+  config.grid_fast = true;
+  const StereoCalibration calibration{353.5, 353.5, 306.0, 92.0, 0.54};
+  const StereoFeatureExtractor extractor(config, calibration);
+  std::vector<cv::KeyPoint> keypoints;
+  cv::Mat descriptors;
+  extractor.DetectAndDescribe(image, &keypoints, &descriptors);
+  ASSERT_EQ(descriptors.rows, static_cast<int>(keypoints.size()));
+  auto orb = cv::ORB::create(1000000, 1.2f, 1, 19, 0, 2, cv::ORB::HARRIS_SCORE,
+                             31, config.min_fast_threshold);
+  std::vector<cv::KeyPoint> all;
+  cv::Mat all_descriptors;
+  orb->detectAndCompute(image, cv::noArray(), all, all_descriptors);
+  int compared = 0, octave_zero = 0;
+  for (size_t k = 0; k < keypoints.size(); ++k) {
+    if (k > 0) EXPECT_GE(keypoints[k - 1].response, keypoints[k].response);
+    if (keypoints[k].octave != 0) continue;
+    ++octave_zero;
+    for (size_t j = 0; j < all.size(); ++j) {
+      if (all[j].pt != keypoints[k].pt) continue;
+      EXPECT_FLOAT_EQ(all[j].response, keypoints[k].response);
+      EXPECT_EQ(all[j].angle, keypoints[k].angle) << "keypoint " << k;
+      EXPECT_EQ(cv::norm(descriptors.row(static_cast<int>(k)),
+                         all_descriptors.row(static_cast<int>(j)),
+                         cv::NORM_HAMMING),
+                0.0)
+          << "keypoint " << k;
+      ++compared;
+      break;
+    }
+  }
+  std::printf("%d of %d octave-0 keypoints compared\n", compared, octave_zero);
+  EXPECT_GT(octave_zero, 200);
+  EXPECT_EQ(compared, octave_zero);
+}
+
 }  // namespace
 }  // namespace slam

@@ -10,7 +10,9 @@ std::vector<Field> OrbFeatureFields(StereoFeatureConfig* f) {
           I("levels", &f->levels),
           I("fast_threshold", &f->fast_threshold),
           I("cell_size", &f->cell_size),
-          I("max_per_cell", &f->max_per_cell)};
+          I("max_per_cell", &f->max_per_cell),
+          B("grid_fast", &f->grid_fast),
+          I("min_fast_threshold", &f->min_fast_threshold)};
 }
 
 std::vector<Section> VisualSlamSections(StereoOdometryConfig* o,

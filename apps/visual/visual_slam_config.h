@@ -18,7 +18,7 @@
 namespace slam {
 
 // max_features, scale_factor, levels, fast_threshold, cell_size,
-// max_per_cell.
+// max_per_cell, grid_fast, min_fast_threshold.
 std::vector<config_schema::Field> OrbFeatureFields(StereoFeatureConfig* f);
 
 // tracking, keyframes, bundle_adjustment, loop_closure.

@@ -119,6 +119,70 @@ cv::Point2f LevelToImage(const cv::KeyPoint& k, const cv::Size& size,
       static_cast<float>((y + 0.5) * size.height / height - 0.5));
 }
 
+// OpenCV's ORB Harris response (orb.cpp, HarrisResponses: 7 x 7 block,
+// k = 0.04, Sobel gradients, the same scaling) at (x, y) of a level image;
+// (x, y) at least 4 pixels inside it.
+float OrbHarrisResponse(const cv::Mat& img, int x, int y) {
+  constexpr int kBlock = 7;
+  constexpr float kHarrisK = 0.04f;
+  const int r = kBlock / 2;
+  const int step = static_cast<int>(img.step);
+  const float scale = 1.f / ((1 << 2) * kBlock * 255.f);
+  const float scale_sq_sq = scale * scale * scale * scale;
+  int a = 0, b = 0, c = 0;
+  for (int i = 0; i < kBlock; ++i) {
+    const uchar* row = img.ptr<uchar>(y - r + i) + x - r;
+    for (int j = 0; j < kBlock; ++j) {
+      const uchar* p = row + j;
+      const int ix = (p[1] - p[-1]) * 2 + (p[-step + 1] - p[-step - 1]) +
+                     (p[step + 1] - p[step - 1]);
+      const int iy = (p[step] - p[-step]) * 2 + (p[step - 1] - p[-step - 1]) +
+                     (p[step + 1] - p[-step + 1]);
+      a += ix * ix;
+      b += iy * iy;
+      c += ix * iy;
+    }
+  }
+  return (static_cast<float>(a) * b - static_cast<float>(c) * c -
+          kHarrisK * (static_cast<float>(a) + b) * (static_cast<float>(a) + b)) *
+         scale_sq_sq;
+}
+
+// OpenCV's ORB orientation (orb.cpp, ICAngles): the intensity centroid of
+// the circular patch of radius 15 around (x, y), which is at least 15
+// pixels inside the level image; degrees, as fastAtan2.
+float OrbAngle(const cv::Mat& img, int x, int y) {
+  constexpr int kHalf = 15;  // patchSize 31 / 2.
+  static const std::vector<int> u_max = [] {
+    std::vector<int> u(kHalf + 2);
+    const int vmax = cvFloor(kHalf * std::sqrt(2.f) / 2 + 1);
+    const int vmin = cvCeil(kHalf * std::sqrt(2.f) / 2);
+    for (int v = 0; v <= vmax; ++v)
+      u[v] = cvRound(std::sqrt(static_cast<double>(kHalf) * kHalf - v * v));
+    for (int v = kHalf, v0 = 0; v >= vmin; --v) {  // Symmetric, as ORB's.
+      while (u[v0] == u[v0 + 1]) ++v0;
+      u[v] = v0;
+      ++v0;
+    }
+    return u;
+  }();
+  const int step = static_cast<int>(img.step1());
+  const uchar* center = &img.at<uchar>(y, x);
+  int m_01 = 0, m_10 = 0;
+  for (int u = -kHalf; u <= kHalf; ++u) m_10 += u * center[u];
+  for (int v = 1; v <= kHalf; ++v) {
+    int v_sum = 0;
+    const int d = u_max[v];
+    for (int u = -d; u <= d; ++u) {
+      const int plus = center[u + v * step], minus = center[u - v * step];
+      v_sum += plus - minus;
+      m_10 += u * (plus + minus);
+    }
+    m_01 += v * v_sum;
+  }
+  return cv::fastAtan2(static_cast<float>(m_01), static_cast<float>(m_10));
+}
+
 }  // namespace
 
 bool ValidateStereoFeatureConfig(const StereoFeatureConfig& c,
@@ -134,6 +198,8 @@ bool ValidateStereoFeatureConfig(const StereoFeatureConfig& c,
   if (c.levels < 1 || c.levels > 16) return fail("levels must be in [1, 16]");
   if (c.fast_threshold < 1 || c.fast_threshold > 255)
     return fail("fast_threshold must be in [1, 255]");
+  if (c.min_fast_threshold < 1 || c.min_fast_threshold > c.fast_threshold)
+    return fail("min_fast_threshold must be in [1, fast_threshold]");
   if (c.cell_size < 4 || c.max_per_cell < 1)
     return fail("cell_size must be >= 4 and max_per_cell >= 1");
   if (!(c.row_tolerance >= 0 && c.row_tolerance < 100))
@@ -217,6 +283,7 @@ void StereoFeatureExtractor::DetectAndDescribe(
           cv::Size(cvRound(image.cols / scale), cvRound(image.rows / scale)), 0,
           0, cv::INTER_LINEAR_EXACT);
     }
+    if (config_.grid_fast) continue;  // DetectGrid below.
     std::vector<cv::KeyPoint> found;
     level_orbs_[level]->detect(pyramid[level], found);
     for (cv::KeyPoint k : found) {
@@ -227,6 +294,7 @@ void StereoFeatureExtractor::DetectAndDescribe(
       all.push_back(k);
     }
   }
+  if (config_.grid_fast) DetectGrid(pyramid, &all, &at_level);
   // Grid bucketing: the strongest max_per_cell per cell, then the strongest
   // overall up to max_features. Only the kept corners are described: ORB
   // detects 2 max_features corners, of which the bucketing keeps a fraction
@@ -263,6 +331,13 @@ void StereoFeatureExtractor::DetectAndDescribe(
       corners.back().octave = 0;
     }
     if (corners.empty()) continue;
+    if (config_.grid_fast) {  // Oriented here, only the kept corners.
+      for (size_t k = 0; k < corners.size(); ++k) {
+        corners[k].angle = OrbAngle(pyramid[level], cvRound(corners[k].pt.x),
+                                    cvRound(corners[k].pt.y));
+        all[ids[k]].angle = corners[k].angle;
+      }
+    }
     cv::Mat level_descriptors;
     level_orbs_[level]->compute(pyramid[level], corners, level_descriptors);
     // compute() drops a corner too close to the border; these were found
@@ -288,6 +363,60 @@ void StereoFeatureExtractor::DetectAndDescribe(
     level_rows[strongest[k]].copyTo(descriptors->row(static_cast<int>(k)));
     keypoints->back().pt =
         LevelToImage(keypoints->back(), image.size(), config_.scale_factor);
+  }
+}
+
+void StereoFeatureExtractor::DetectGrid(
+    const std::vector<cv::Mat>& pyramid, std::vector<cv::KeyPoint>* all,
+    std::vector<cv::Point2f>* at_level) const {
+  // FAST at the lower threshold finds every corner the higher one finds,
+  // with the same score (the largest threshold at which it is a corner),
+  // and a corner of score >= fast_threshold is suppressed only by a
+  // stronger neighbour: the corners of score >= fast_threshold are those
+  // FAST at fast_threshold gives. Each cell (cell_size image pixels, the
+  // bucketing's cells) of each level takes those, or the weaker ones when
+  // it has none, and keeps its max_per_cell strongest by FAST score.
+  const int cell = config_.cell_size;
+  const int cols = (pyramid[0].cols + cell - 1) / cell;
+  const int rows = (pyramid[0].rows + cell - 1) / cell;
+  for (size_t level = 0; level < pyramid.size(); ++level) {
+    const cv::Mat& image = pyramid[level];
+    const float scale = level_scales_[level];
+    std::vector<cv::KeyPoint> found;
+    cv::FAST(image, found, config_.min_fast_threshold, /*nonmaxSuppression=*/
+             true);
+    cv::KeyPointsFilter::runByImageBorder(found, image.size(),
+                                          kOrbEdgeThreshold);
+    std::vector<std::vector<int>> in_cell(static_cast<size_t>(cols) * rows);
+    for (size_t i = 0; i < found.size(); ++i) {
+      const int cx = std::min(cols - 1, static_cast<int>(found[i].pt.x *
+                                                         scale) / cell);
+      const int cy = std::min(rows - 1, static_cast<int>(found[i].pt.y *
+                                                         scale) / cell);
+      in_cell[static_cast<size_t>(cy) * cols + cx].push_back(
+          static_cast<int>(i));
+    }
+    for (std::vector<int>& ids : in_cell) {
+      if (ids.empty()) continue;
+      std::sort(ids.begin(), ids.end(), [&](int a, int b) {
+        return found[a].response > found[b].response;
+      });
+      const bool strong = found[ids[0]].response >= config_.fast_threshold;
+      int taken = 0;
+      for (int i : ids) {
+        if (taken == config_.max_per_cell) break;
+        if (strong && found[i].response < config_.fast_threshold) break;
+        ++taken;
+        cv::KeyPoint k = found[i];
+        at_level->push_back(k.pt);
+        k.response = OrbHarrisResponse(image, cvRound(k.pt.x),
+                                       cvRound(k.pt.y));
+        k.octave = static_cast<int>(level);
+        k.size = 31 * scale;
+        k.pt *= scale;
+        all->push_back(k);
+      }
+    }
   }
 }
 

@@ -9,6 +9,14 @@
 //     of the kept corners only. The pyramid is built once (each level then
 //     an ORB of one level, see DetectAndDescribe): the corners and
 //     descriptors are those of OpenCV's multi-level ORB.
+//     With grid_fast (off by default), each level's corners are instead
+//     found per cell: FAST over the level, each cell's max_per_cell
+//     strongest by FAST score at fast_threshold (at min_fast_threshold in a
+//     cell that has none), ORB's Harris response of those only, the same
+//     bucketing, and ORB's orientation and descriptor of the kept corners
+//     only; every textured cell then has octave-0 corners (OpenCV's ORB
+//     keeps a level's strongest corners over the whole image, so octave 0's
+//     share sits where the contrast is highest).
 //  2. Stereo correspondence for every left keypoint: the right keypoints
 //     within row_tolerance * scale^octave rows, of a neighbouring octave,
 //     at a disparity in [min_disparity, max_disparity]; the one with the
@@ -52,6 +60,13 @@ struct StereoFeatureConfig {
   int fast_threshold = 12;  // FAST intensity threshold.
   int cell_size = 32;       // Pixels, grid bucketing.
   int max_per_cell = 10;
+  // Detection per cell (DetectGrid) instead of OpenCV's ORB per level:
+  // every level's FAST corners, the strongest max_per_cell of each cell at
+  // every level (min_fast_threshold where a cell has none at
+  // fast_threshold), Harris responses of those only, the same bucketing,
+  // and the orientation and descriptor of the kept corners only.
+  bool grid_fast = false;
+  int min_fast_threshold = 5;  // FAST threshold in cells without corners.
   // Stereo matching.
   double row_tolerance = 2.0;  // Pixels at octave 0, times scale^octave.
   double min_disparity = 0.0;  // Pixels; > 0 by the refinement.
@@ -103,6 +118,13 @@ class StereoFeatureExtractor {
   StereoCalibration calibration_;
   // One single-level ORB per pyramid level, asked for the corners OpenCV's
   // multi-level ORB would keep on that level (see DetectAndDescribe).
+  // Candidate corners of every level (grid_fast): FAST, the strongest
+  // max_per_cell per cell and level, their Harris responses; `all` in
+  // image coordinates (octave = level), `at_level` their level positions.
+  void DetectGrid(const std::vector<cv::Mat>& pyramid,
+                  std::vector<cv::KeyPoint>* all,
+                  std::vector<cv::Point2f>* at_level) const;
+
   std::vector<cv::Ptr<cv::Feature2D>> level_orbs_;
   std::vector<float> level_scales_;  // scale_factor^level, as ORB's float.
 };
