@@ -369,48 +369,77 @@ void StereoFeatureExtractor::DetectAndDescribe(
 void StereoFeatureExtractor::DetectGrid(
     const std::vector<cv::Mat>& pyramid, std::vector<cv::KeyPoint>* all,
     std::vector<cv::Point2f>* at_level) const {
-  // FAST at the lower threshold finds every corner the higher one finds,
-  // with the same score (the largest threshold at which it is a corner),
-  // and a corner of score >= fast_threshold is suppressed only by a
-  // stronger neighbour: the corners of score >= fast_threshold are those
-  // FAST at fast_threshold gives. Each cell (cell_size image pixels, the
-  // bucketing's cells) of each level takes those, or the weaker ones when
-  // it has none, and keeps its max_per_cell strongest by FAST score.
+  // FAST at fast_threshold over each level; a cell (cell_size image pixels,
+  // the bucketing's cells) without a corner there is searched again at
+  // min_fast_threshold (FAST on the cell with a 3-pixel margin, the radius
+  // of its circle). Each cell of each level keeps its max_per_cell
+  // strongest by FAST score.
   const int cell = config_.cell_size;
   const int cols = (pyramid[0].cols + cell - 1) / cell;
   const int rows = (pyramid[0].rows + cell - 1) / cell;
   for (size_t level = 0; level < pyramid.size(); ++level) {
     const cv::Mat& image = pyramid[level];
     const float scale = level_scales_[level];
+    auto cell_of = [&](const cv::Point2f& p) {
+      const int cx = std::min(cols - 1, static_cast<int>(p.x * scale) / cell);
+      const int cy = std::min(rows - 1, static_cast<int>(p.y * scale) / cell);
+      return static_cast<size_t>(cy) * cols + cx;
+    };
     std::vector<cv::KeyPoint> found;
-    cv::FAST(image, found, config_.min_fast_threshold, /*nonmaxSuppression=*/
-             true);
+    cv::FAST(image, found, config_.fast_threshold, /*nonmaxSuppression=*/true);
     cv::KeyPointsFilter::runByImageBorder(found, image.size(),
                                           kOrbEdgeThreshold);
     std::vector<std::vector<int>> in_cell(static_cast<size_t>(cols) * rows);
     for (size_t i = 0; i < found.size(); ++i) {
-      const int cx = std::min(cols - 1, static_cast<int>(found[i].pt.x *
-                                                         scale) / cell);
-      const int cy = std::min(rows - 1, static_cast<int>(found[i].pt.y *
-                                                         scale) / cell);
-      in_cell[static_cast<size_t>(cy) * cols + cx].push_back(
-          static_cast<int>(i));
+      in_cell[cell_of(found[i].pt)].push_back(static_cast<int>(i));
+    }
+    // The part of each empty cell inside the level's border, searched at
+    // the lower threshold.
+    const cv::Rect inside(kOrbEdgeThreshold, kOrbEdgeThreshold,
+                          image.cols - 2 * kOrbEdgeThreshold,
+                          image.rows - 2 * kOrbEdgeThreshold);
+    if (config_.min_fast_threshold < config_.fast_threshold &&
+        inside.width > 0 && inside.height > 0) {
+      for (int cy = 0; cy < rows; ++cy) {
+        for (int cx = 0; cx < cols; ++cx) {
+          const size_t c = static_cast<size_t>(cy) * cols + cx;
+          if (!in_cell[c].empty()) continue;
+          const int x0 = static_cast<int>(std::ceil(cx * cell / scale));
+          const int y0 = static_cast<int>(std::ceil(cy * cell / scale));
+          const int x1 = static_cast<int>(std::ceil((cx + 1) * cell / scale));
+          const int y1 = static_cast<int>(std::ceil((cy + 1) * cell / scale));
+          const cv::Rect area =
+              cv::Rect(x0, y0, x1 - x0, y1 - y0) & inside;  // Whole pixels.
+          if (area.width <= 0 || area.height <= 0) continue;
+          const cv::Rect search(area.x - 3, area.y - 3, area.width + 6,
+                                area.height + 6);
+          std::vector<cv::KeyPoint> weak;
+          cv::FAST(image(search), weak, config_.min_fast_threshold, true);
+          for (cv::KeyPoint& k : weak) {
+            k.pt.x += search.x;
+            k.pt.y += search.y;
+            if (!area.contains(cv::Point(cvRound(k.pt.x), cvRound(k.pt.y))) ||
+                cell_of(k.pt) != c) {
+              continue;
+            }
+            in_cell[c].push_back(static_cast<int>(found.size()));
+            found.push_back(k);
+          }
+        }
+      }
     }
     for (std::vector<int>& ids : in_cell) {
       if (ids.empty()) continue;
-      std::sort(ids.begin(), ids.end(), [&](int a, int b) {
-        return found[a].response > found[b].response;
-      });
-      const bool strong = found[ids[0]].response >= config_.fast_threshold;
-      int taken = 0;
-      for (int i : ids) {
-        if (taken == config_.max_per_cell) break;
-        if (strong && found[i].response < config_.fast_threshold) break;
-        ++taken;
-        cv::KeyPoint k = found[i];
+      const size_t n =
+          std::min(ids.size(), static_cast<size_t>(config_.max_per_cell));
+      std::partial_sort(ids.begin(), ids.begin() + n, ids.end(),
+                        [&](int a, int b) {
+                          return found[a].response > found[b].response;
+                        });
+      for (size_t t = 0; t < n; ++t) {
+        cv::KeyPoint k = found[ids[t]];
         at_level->push_back(k.pt);
-        k.response = OrbHarrisResponse(image, cvRound(k.pt.x),
-                                       cvRound(k.pt.y));
+        k.response = OrbHarrisResponse(image, cvRound(k.pt.x), cvRound(k.pt.y));
         k.octave = static_cast<int>(level);
         k.size = 31 * scale;
         k.pt *= scale;
