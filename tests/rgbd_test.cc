@@ -644,12 +644,17 @@ TEST(RgbdRunConfigTest, RoundTripsThroughItsYamlDumpAndRejectsUnknownKeys) {
       << error;
   EXPECT_EQ(config.features.max_features, 1000);
   EXPECT_EQ(config.camera, "auto");
+  EXPECT_FALSE(config.features.grid_fast);
+  config.features.grid_fast = true;  // Off by default: its keys round-trip.
+  config.features.min_fast_threshold = 7;
   const std::string dir = TempDir();
   const std::string dump = RgbdRunConfigToYaml(config);
   WriteText(dir + "/dump.yaml", dump);
   RgbdRunConfig again;
   ASSERT_TRUE(LoadRgbdRunConfig(dir + "/dump.yaml", &again, &error)) << error;
   EXPECT_EQ(RgbdRunConfigToYaml(again), dump);
+  EXPECT_TRUE(again.features.grid_fast);
+  EXPECT_EQ(again.features.min_fast_threshold, 7);
   WriteText(dir + "/bad.yaml",
             "run:\n  pipeline: rgbd\n  depth:\n    baseline: 0.1\n");
   EXPECT_FALSE(LoadRgbdRunConfig(dir + "/bad.yaml", &again, &error));

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <random>
+#include <string>
 
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
@@ -336,6 +337,17 @@ TEST(StereoFeaturesTest, GridFastGivesEveryTexturedCellOctaveZeroCorners) {
               grid.first, grid.second);
   EXPECT_EQ(grid.first, 0);
   EXPECT_EQ(grid.second, 0);
+}
+
+TEST(StereoFeaturesTest, MinFastThresholdMustNotExceedFastThreshold) {
+  StereoFeatureConfig config;
+  std::string error;
+  EXPECT_TRUE(ValidateStereoFeatureConfig(config, &error)) << error;
+  config.min_fast_threshold = config.fast_threshold + 1;
+  EXPECT_FALSE(ValidateStereoFeatureConfig(config, &error));
+  EXPECT_NE(error.find("min_fast_threshold"), std::string::npos) << error;
+  config.min_fast_threshold = 0;
+  EXPECT_FALSE(ValidateStereoFeatureConfig(config, &error));
 }
 
 // The grid detection's corners at octave 0 are OpenCV's ORB corners of the
