@@ -58,6 +58,7 @@
 #ifndef SLAM_FRONTENDS_INERTIAL_INERTIAL_INITIALIZER_H_
 #define SLAM_FRONTENDS_INERTIAL_INERTIAL_INITIALIZER_H_
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -116,6 +117,11 @@ struct InertialInitialization {
   // kYawHintSigma (max() when never): the window's own yaw counts from then.
   TimeNs yaw_hint_stamp = 0;
   int alignment_fixes = 0;
+  // The alignment's first rough yaw, at yaw_hint_stamp (its sigma below
+  // kYawHintSigma, not yet observable): the start it gives, as above (null
+  // when there is none). The sliding window's pass without yaw information
+  // restarts from it (inertial_estimator.h).
+  std::shared_ptr<const InertialInitialization> rough;
   // Human-readable one-line summary.
   std::string summary;
 };
