@@ -794,7 +794,8 @@ TEST(InertialFlightTest, MovingStartAlignmentSigmasCoverItsErrors) {
 // with a sigma of 0.02 (12 / 6 sigma; seeds 5 / 63, 12 s in). Now that
 // prior may not know the heading better than 60 degrees while the window's
 // own yaw sigma is above 10 (inertial_estimator.cc, CapYawInformation):
-// 1.9 / 1.9 sigma at worst.
+// 1.9 / 1.9 sigma at worst (1.9 / 2.4 since that pass restarts from the
+// rough alignment, WindowWithoutYawRestartsFromTheRoughAlignment).
 TEST(InertialFlightTest, WindowWithoutYawKeepsItsGyroBiasWithinItsSigma) {
   InertialOptions options = EurocOptions();
   options.newest_covariance = true;

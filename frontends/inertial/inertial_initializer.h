@@ -54,7 +54,9 @@
 // in the first prior (sigma 180 degrees), so the covariance of the published
 // estimate shows it; the sliding window's own yaw estimate counts from the
 // keyframe its yaw sigma falls below kMaxYawSigma (inertial_estimator.h; only
-// once the alignment's is below kYawHintSigma).
+// once the alignment's is below kYawHintSigma). The first fit whose yaw sigma
+// is below kYawHintSigma also gives a rough start (`rough`, built as the final
+// one), from which the window's pass without yaw information restarts.
 #ifndef SLAM_FRONTENDS_INERTIAL_INERTIAL_INITIALIZER_H_
 #define SLAM_FRONTENDS_INERTIAL_INERTIAL_INITIALIZER_H_
 
