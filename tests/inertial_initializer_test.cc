@@ -794,7 +794,8 @@ TEST(InertialFlightTest, MovingStartAlignmentSigmasCoverItsErrors) {
 // with a sigma of 0.02 (12 / 6 sigma; seeds 5 / 63, 12 s in). Now that
 // prior may not know the heading better than 60 degrees while the window's
 // own yaw sigma is above 10 (inertial_estimator.cc, CapYawInformation):
-// 1.9 / 1.9 sigma at worst.
+// 1.9 / 1.9 sigma at worst (1.9 / 2.4 since that pass restarts from the
+// rough alignment, WindowWithoutYawRestartsFromTheRoughAlignment).
 TEST(InertialFlightTest, WindowWithoutYawKeepsItsGyroBiasWithinItsSigma) {
   InertialOptions options = EurocOptions();
   options.newest_covariance = true;
@@ -868,6 +869,69 @@ TEST(InertialFlightTest, HoverAndVerticalMotionLeaveTheYawUnobservable) {
     EXPECT_TRUE(Contains(run.initialization_summary, "NOT observable"))
         << run.initialization_summary;
   }
+}
+
+// Before the yaw is known the window's real-time estimates come from a pass
+// without yaw information. Started at an arbitrary heading (radians off),
+// that pass maps the horizontal accelerations in the wrong direction and
+// fits them with tilt, which the x / y gyro and the accelerometer biases
+// then carry, and keep. On these 20 s gentle moving starts with the EuRoC
+// unit's gyro bias the bias NEES between the alignment's first rough yaw
+// (sigma below kYawHintSigma, 7-8 s in) and the yaw being known (11-13 s)
+// was 14.3 / 65.0 / 206 (seeds 61 / 69 / 72; pose 3.1 / 56 / 125). Now that
+// pass restarts from the rough alignment (inertial_estimator.h): 7.3 / 5.4 /
+// 5.1 (pose 3.6 / 3.6 / 4.7). By hand over
+// seeds 5, 61-73 (20 s and 60 s flights; the stretch exists on 11 and 14
+// of them): mean 32.6 -> 6.6 and 23.5 -> 6.1, worst 206 -> 11.7 and 106 ->
+// 9.0; one flight got worse (seed 5, 20 s: 6.7 -> 11.7).
+TEST(InertialFlightTest, WindowWithoutYawRestartsFromTheRoughAlignment) {
+  InertialOptions options = EurocOptions();
+  options.newest_covariance = true;
+  const Eigen::Vector3d gyro_bias(-0.0022, 0.0207, 0.0758);
+  double mean = 0.0;
+  const unsigned seeds[] = {61u, 69u, 72u};
+  for (unsigned seed : seeds) {
+    const StillThenMoving trajectory(0.0, 0.0, 0.0, GentleFlight());
+    const InertialData data =
+        SimulateFlight(trajectory, 20.0, seed, &gyro_bias);
+    InertialInitialization init;
+    ASSERT_TRUE(InitializeMovingStart(data, options, seed, &init));
+    ASSERT_NE(init.rough, nullptr);
+    InertialRun run;
+    std::string error;
+    ASSERT_TRUE(RunSlidingWindow(data, options, &run, nullptr, &error))
+        << error;
+    NeesOptions nees_options;
+    nees_options.skip_seconds = 0.0;
+    NeesSummary nees;
+    ASSERT_TRUE(SummarizeNees(run.filter, run.newest_covariance,
+                              data.ground_truth, nees_options, &nees, &error))
+        << error;
+    ASSERT_EQ(nees.per_keyframe.size(), run.filter.size());
+    double bias = 0.0, pose = 0.0;
+    int count = 0;
+    for (size_t k = 0; k < run.filter_yaw_unknown; ++k) {
+      if (run.filter[k].stamp < init.yaw_hint_stamp) continue;
+      bias += nees.per_keyframe[k].bias;
+      pose += nees.per_keyframe[k].pose;
+      ++count;
+    }
+    ASSERT_GT(count, 10) << run.initialization_summary;
+    bias /= count;
+    pose /= count;
+    std::printf(
+        "seed %u: rough yaw after %.2f s, yaw known after %.2f s; in "
+        "between NEES bias %.2f pose %.2f (%d keyframes)\n",
+        seed, NsToSeconds(init.yaw_hint_stamp - data.imu.front().stamp),
+        run.yaw_observable_after_seconds, bias, pose, count);
+    EXPECT_LT(bias, 6.0 * 2.0) << seed;
+    EXPECT_GT(bias, 6.0 / 2.0) << seed;
+    EXPECT_LT(pose, 6.0 * 2.0) << seed;
+    mean += bias / std::size(seeds);
+  }
+  std::printf("mean bias NEES %.2f\n", mean);
+  EXPECT_LT(mean, 6.0 * 1.5);
+  EXPECT_GT(mean, 6.0 / 1.5);
 }
 
 }  // namespace

@@ -46,9 +46,15 @@ namespace slam {
 // information knows the yaw itself once its newest state's yaw sigma is
 // below kMaxYawSigma (inertial_initializer.h): from that keyframe on its
 // estimates count as knowing the yaw (until the alignment, if it comes).
+// Once the alignment has a rough yaw (InertialInitialization::rough, sigma
+// below kYawHintSigma), that pass restarts from it (a catch-up over the
+// keyframes so far, with twice the rough sigma): from an arbitrary heading
+// it fits the horizontal accelerations, mapped in the wrong direction, with
+// tilt, which the biases then carry.
 // While that pass's yaw sigma is above kAlignmentMaxYawSigma, its
 // marginalization prior is kept from knowing the heading better than 60
-// degrees (inertial_estimator.cc): its heading is arbitrary, and a prior
+// degrees, or than its start when restarted from the rough yaw
+// (inertial_estimator.cc): its heading is arbitrary, and a prior
 // linearised there turns the later pull towards the true heading into a
 // gyro bias.
 struct InertialOptions {

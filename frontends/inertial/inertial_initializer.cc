@@ -533,6 +533,42 @@ bool InitializeInertial(const InertialData& data,
     alignment.Add(tau, y, u, m);
     return true;
   };
+  // The start the fit `r` gives (gyro bias integrated with `bias`).
+  auto aligned_start = [&](const Alignment::Result& r, const ImuBias& bias,
+                           InertialInitialization* out) {
+    if (!out->still_start) {
+      // The fit's gyro bias, with twice its sigma (as the yaw's), within
+      // the prior's.
+      out->state.bias.head<3>() = bias.head<3>() + r.bias_error.head<3>();
+      out->gyro_bias_sigma = std::min(
+          out->gyro_bias_sigma, std::max(r.gyro_bias_sigma, kMinGyroBiasSigma));
+    }
+    Eigen::Matrix3d r_yaw =
+        Eigen::AngleAxisd(r.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    if (!out->still_start) {
+      // Without a still start the tilt came from a moving accelerometer:
+      // correct it by the fit's horizontal term, a small world rotation
+      // omega with omega x (u_z z) = u_z (e_x, e_y, 0).
+      const Eigen::Vector3d omega(-r.tilt_error.y(), r.tilt_error.x(), 0.0);
+      r_yaw = QuaternionExp<double>(omega).toRotationMatrix() * r_yaw;
+      // e also holds any horizontal accelerometer bias (0.1 m/s^2 is
+      // 0.01 rad): a floor.
+      out->tilt_sigma = std::max(2.0 * r.tilt_sigma, 0.01);
+    }
+    const Eigen::Matrix3d r0 = level.transpose() * r_yaw * r_level;
+    out->state.state.pose =
+        Pose3(level.transpose() * r.p0, Eigen::Quaterniond(r0));
+    if (!out->still_start) {
+      out->state.state.velocity = level.transpose() * r.v0;
+    }
+    out->position_sigma = std::max(r.position_sigma, 1e-3);
+    if (!out->still_start) {
+      out->velocity_sigma = std::max(r.velocity_sigma, 0.01);
+    }
+    // Model errors (accelerometer bias, tilt) are not in the fit: keep
+    // some yaw uncertainty.
+    out->yaw_sigma = std::max(2.0 * r.yaw_sigma, 1.0 * M_PI / 180.0);
+  };
   const size_t f_first = f;
   bool readable = true;
   int reintegrations = 0;
@@ -574,43 +610,18 @@ bool InitializeInertial(const InertialData& data,
         init->yaw_hint_stamp > fix.stamp) {
       init->yaw_hint_stamp = fix.stamp;
     }
+    if (r.ok && r.yaw_sigma < kYawHintSigma && init->rough == nullptr) {
+      // The first rough alignment: the pass without yaw information
+      // restarts from it (inertial_estimator.h).
+      auto rough = std::make_shared<InertialInitialization>(*init);
+      aligned_start(r, lin_bias, rough.get());
+      init->rough = rough;
+    }
     if (!r.ok || r.yaw_sigma > kAlignmentMaxYawSigma) continue;
     init->yaw_observable = true;
     init->yaw_observable_stamp = fix.stamp;
-    if (!init->still_start) {
-      // The fit's gyro bias, with twice its sigma (as the yaw's), within
-      // the prior's.
-      init->state.bias.head<3>() = lin_bias.head<3>() + r.bias_error.head<3>();
-      init->gyro_bias_sigma =
-          std::min(init->gyro_bias_sigma,
-                   std::max(r.gyro_bias_sigma, kMinGyroBiasSigma));
-    }
     init->alignment_fixes = alignment.fixes;
-    Eigen::Matrix3d r_yaw =
-        Eigen::AngleAxisd(r.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-    if (!init->still_start) {
-      // Without a still start the tilt came from a moving accelerometer:
-      // correct it by the fit's horizontal term, a small world rotation
-      // omega with omega x (u_z z) = u_z (e_x, e_y, 0).
-      const Eigen::Vector3d omega(-r.tilt_error.y(), r.tilt_error.x(), 0.0);
-      r_yaw = QuaternionExp<double>(omega).toRotationMatrix() * r_yaw;
-      // e also holds any horizontal accelerometer bias (0.1 m/s^2 is
-      // 0.01 rad): a floor.
-      init->tilt_sigma = std::max(2.0 * r.tilt_sigma, 0.01);
-    }
-    const Eigen::Matrix3d r0 = level.transpose() * r_yaw * r_level;
-    init->state.state.pose =
-        Pose3(level.transpose() * r.p0, Eigen::Quaterniond(r0));
-    if (!init->still_start) {
-      init->state.state.velocity = level.transpose() * r.v0;
-    }
-    init->position_sigma = std::max(r.position_sigma, 1e-3);
-    if (!init->still_start) {
-      init->velocity_sigma = std::max(r.velocity_sigma, 0.01);
-    }
-    // Model errors (accelerometer bias, tilt) are not in the fit: keep
-    // some yaw uncertainty.
-    init->yaw_sigma = std::max(2.0 * r.yaw_sigma, 1.0 * M_PI / 180.0);
+    aligned_start(r, lin_bias, init);
     break;
   }
 

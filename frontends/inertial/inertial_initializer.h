@@ -54,10 +54,13 @@
 // in the first prior (sigma 180 degrees), so the covariance of the published
 // estimate shows it; the sliding window's own yaw estimate counts from the
 // keyframe its yaw sigma falls below kMaxYawSigma (inertial_estimator.h; only
-// once the alignment's is below kYawHintSigma).
+// once the alignment's is below kYawHintSigma). The first fit whose yaw sigma
+// is below kYawHintSigma also gives a rough start (`rough`, built as the final
+// one), from which the window's pass without yaw information restarts.
 #ifndef SLAM_FRONTENDS_INERTIAL_INERTIAL_INITIALIZER_H_
 #define SLAM_FRONTENDS_INERTIAL_INERTIAL_INITIALIZER_H_
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -116,6 +119,11 @@ struct InertialInitialization {
   // kYawHintSigma (max() when never): the window's own yaw counts from then.
   TimeNs yaw_hint_stamp = 0;
   int alignment_fixes = 0;
+  // The alignment's first rough yaw, at yaw_hint_stamp (its sigma below
+  // kYawHintSigma, not yet observable): the start it gives, as above (null
+  // when there is none). The sliding window's pass without yaw information
+  // restarts from it (inertial_estimator.h).
+  std::shared_ptr<const InertialInitialization> rough;
   // Human-readable one-line summary.
   std::string summary;
 };
