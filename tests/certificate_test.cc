@@ -133,7 +133,9 @@ TEST(CertificateTest, DataMatrixGivesTheObjective) {
 
 // Refines the graph's values on f, certifies, and compares lambda_min with
 // the dense eigensolver's.
-CertificateResult CheckAgainstDense(const Graph& graph, int rank_extra = 0) {
+CertificateResult CheckAgainstDense(
+    const Graph& graph, int rank_extra = 0,
+    const CertificateOptions& options = CertificateOptions()) {
   IsotropicProblem p;
   std::string error;
   EXPECT_TRUE(BuildIsotropicProblem(graph, &p, &error)) << error;
@@ -145,8 +147,8 @@ CertificateResult CheckAgainstDense(const Graph& graph, int rank_extra = 0) {
   y.topRows(d) << tra, rot;
   RefineIsotropic(p, 200, &y);
   CertificateResult result;
-  EXPECT_TRUE(CertifyRotations(p, m, y.rightCols(d * n), CertificateOptions(),
-                               &result, &error))
+  EXPECT_TRUE(
+      CertifyRotations(p, m, y.rightCols(d * n), options, &result, &error))
       << error;
   const Eigen::MatrixXd s = DenseCertificateMatrix(m, n, d, y.rightCols(d * n));
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(s);
@@ -191,6 +193,27 @@ void CheckNewtonSystem(const Graph& graph, double perturbation) {
   for (int k = 0; k < v.size(); ++k) v(k) = rng.Normal();
   EXPECT_LT((IsotropicNewtonProduct(p, m, y, v) - hd * v).norm(),
             1e-12 * (hd * v).norm());
+  // Assembled in another node order (as NewtonRefine does, in its
+  // elimination order): the same matrix with its blocks renumbered.
+  std::vector<int> order(n);
+  order[0] = n - 1;
+  for (int i = 1; i < n; ++i) order[i] = n - 1 - i;  // Reversed.
+  Eigen::SparseMatrix<double> h_ordered;
+  Eigen::VectorXd g_unused;
+  IsotropicNewtonSystem(p, m, y, &h_ordered, &g_unused, &order);
+  const Eigen::MatrixXd hod(h_ordered);
+  double max_difference = 0.0;
+  for (int i = 1; i < n; ++i) {
+    for (int j = 1; j < n; ++j) {
+      max_difference = std::max(
+          max_difference,
+          (hod.block(block * order[i], block * order[j], block, block) -
+           hd.block(block * (i - 1), block * (j - 1), block, block))
+              .cwiseAbs()
+              .maxCoeff());
+    }
+  }
+  EXPECT_LT(max_difference, 1e-12 * hd.cwiseAbs().maxCoeff());
   auto phi = [&](const Eigen::VectorXd& w) {
     return EdgeSum(p, RetractIsotropic(p, y, w));
   };
@@ -256,6 +279,20 @@ TEST(CertificateTest, KnownOptimumCertified2DAnd3D) {
   BuildHelix3(10, 0.02, 2, &helix);
   const CertificateResult c3 = CheckAgainstDense(helix);
   EXPECT_TRUE(c3.certified);
+  // Either factorization of K (CHOLMOD supernodal, Eigen simplicial; the
+  // default picks one by the factor's density) gives that lambda_min.
+  for (double flops_per_entry : {0.0, 1e30}) {
+    CertificateOptions forced;
+    forced.supernodal_flops_per_entry = flops_per_entry;
+    const CertificateResult c = CheckAgainstDense(helix, 0, forced);
+    EXPECT_TRUE(c.certified);
+    EXPECT_NEAR(c.lambda_min, c3.lambda_min, 1e-9 * c3.objective);
+    CertificateResult refined;
+    std::string why;
+    ASSERT_TRUE(CertifyGraph(helix, forced, &refined, &why)) << why;
+    EXPECT_TRUE(refined.certified);
+    EXPECT_NEAR(refined.objective, c3.objective, 1e-8 * c3.objective);
+  }
   CertificateResult via_graph;
   std::string error;
   ASSERT_TRUE(CertifyGraph(helix, CertificateOptions(), &via_graph, &error));
