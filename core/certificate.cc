@@ -376,7 +376,7 @@ std::vector<Eigen::MatrixXd> LambdaBlocks(const ReducedBlocks& b,
 // supernodal_flops_per_entry; sphere2500's certificate matrix 0.09 s
 // against 0.24 s with the simplicial one), else and on 2D graphs Eigen's
 // simplicial one (parking-garage's Newton Hessian, 52 flops per entry:
-// 2 x 34-41 ms against 2 x 48-75 ms supernodal, medians of 4 on a loaded
+// 2 x 34-48 ms against 2 x 48-75 ms supernodal, 4 runs each on a loaded
 // machine; city10000's whole certification 0.96 s against 1.14 s). The
 // symbolic analysis is done once per pattern (Analyze).
 class PositiveDefiniteFactor {
