@@ -370,26 +370,34 @@ std::vector<Eigen::MatrixXd> LambdaBlocks(const ReducedBlocks& b,
 // Sparse Cholesky factorization of a matrix that may fail to be positive
 // definite (then Factorize returns false). The matrix comes in a
 // fill-reducing order already (assembled node by node in the order of
-// ReducedBlocks::position): no ordering here. 3D graphs: CHOLMOD's
-// supernodal factorization (their factors are dense: sphere2500's
-// certificate matrix 0.09 s against 0.24 s with the simplicial one); 2D
-// graphs: Eigen's simplicial one (city10000's whole certification 0.96 s
-// against 1.14 s, medians of 3; loaded machine, so only indicative). The
+// ReducedBlocks::position): no ordering here; only its lower triangle is
+// read. 3D graphs: CHOLMOD's supernodal factorization when its symbolic
+// analysis finds dense fronts (CertificateOptions::
+// supernodal_flops_per_entry; sphere2500's certificate matrix 0.09 s
+// against 0.24 s with the simplicial one), else and on 2D graphs Eigen's
+// simplicial one (parking-garage's Newton Hessian, 52 flops per entry:
+// 2 x 34-48 ms against 2 x 48-75 ms supernodal, 4 runs each on a loaded
+// machine; city10000's whole certification 0.96 s against 1.14 s). The
 // symbolic analysis is done once per pattern (Analyze).
 class PositiveDefiniteFactor {
  public:
-  explicit PositiveDefiniteFactor(int d) : supernodal_(d == 3) {
+  PositiveDefiniteFactor(int d, double supernodal_flops_per_entry)
+      : try_supernodal_(d == 3),
+        flops_per_entry_(supernodal_flops_per_entry) {
     supernodal_llt_.cholmod().print = 0;  // Not positive definite: answer.
     // The matrices come in a fill-reducing order already (NodeOrder).
     supernodal_llt_.cholmod().nmethods = 1;
     supernodal_llt_.cholmod().method[0].ordering = CHOLMOD_NATURAL;
   }
   void Analyze(const SpMat& a) {
-    if (supernodal_) {
+    supernodal_ = false;
+    if (try_supernodal_) {
       supernodal_llt_.analyzePattern(a);
-    } else {
-      simplicial_llt_.analyzePattern(a);
+      // cholmod_analyze's counts for the order used: flops and nnz(L).
+      const cholmod_common& c = supernodal_llt_.cholmod();
+      supernodal_ = c.lnz > 0 && c.fl >= flops_per_entry_ * c.lnz;
     }
+    if (!supernodal_) simplicial_llt_.analyzePattern(a);
   }
   bool Factorize(const SpMat& a) {
     if (supernodal_) {
@@ -405,7 +413,9 @@ class PositiveDefiniteFactor {
   }
 
  private:
-  bool supernodal_;
+  bool try_supernodal_;
+  double flops_per_entry_;
+  bool supernodal_ = false;
   Eigen::CholmodSupernodalLLT<SpMat> supernodal_llt_;
   Eigen::SimplicialLLT<SpMat, Eigen::Lower, Eigen::NaturalOrdering<int>>
       simplicial_llt_;
@@ -418,10 +428,11 @@ class ShiftedCertificateOp {
   using Scalar = double;
   ShiftedCertificateOp(const ReducedBlocks& b,
                        const std::vector<Eigen::MatrixXd>& lambda,
+                       double supernodal_flops_per_entry,
                        std::map<std::string, double>* phases)
       : b_(b),
         lambda_(lambda),
-        llt_(b.d),
+        llt_(b.d, supernodal_flops_per_entry),
         phases_(phases),
         perm_(CertificatePermutation(b)) {}
   Eigen::Index rows() const { return b_.d * b_.n; }
@@ -781,51 +792,120 @@ struct NewtonModel {
     }
     return out;
   }
+};
 
-  // The assembled H (both triangles), its unknowns renumbered by perm
-  // (old index -> new) when given.
-  SpMat Hessian(const IsotropicProblem& p,
-                const std::vector<int>* perm = nullptr) const {
-    std::vector<Eigen::MatrixXd> diagonal(n,
-                                          Eigen::MatrixXd::Zero(block, block));
-    Triplets trip;
-    trip.reserve(2 * p.edges.size() * block * block + n * block * block);
-    auto add = [&](int ci, int cj, const Eigen::MatrixXd& b) {
-      for (int c = 0; c < block; ++c) {
-        for (int a = 0; a < block; ++a) {
-          trip.emplace_back(ci + a, cj + c, b(a, c));
-          trip.emplace_back(cj + c, ci + a, b(a, c));
-        }
-      }
-    };
+// Assembles the lower triangle of a NewtonModel's H with node i's block at
+// position[i] (nodes 1..n-1 on 0..n-2), as the factorizations read it, into
+// a pattern built once per refinement: no triplets to sort on every call
+// (assembling both triangles by triplets took 16-35 ms per Hessian on
+// sphere2500, 35-45 ms on parking-garage, loaded machine).
+class LowerHessianAssembler {
+ public:
+  LowerHessianAssembler(const IsotropicProblem& p,
+                        const std::vector<int>& position, int block)
+      : block_(block), position_(position) {
+    const int n = static_cast<int>(p.nodes.size());
+    // Per node, the positions of its neighbours placed after it: the
+    // off-diagonal blocks below its diagonal block, in row order.
+    std::vector<std::vector<int>> below(n);
+    for (const IsotropicEdge& e : p.edges) {
+      if (e.i == 0 || e.j == 0 || e.i == e.j) continue;
+      const bool i_first = position[e.i] < position[e.j];
+      below[i_first ? e.i : e.j].push_back(position[i_first ? e.j : e.i]);
+    }
+    std::vector<int> node_at(n - 1);
+    for (int i = 1; i < n; ++i) {
+      auto& list = below[i];
+      std::sort(list.begin(), list.end());
+      list.erase(std::unique(list.begin(), list.end()), list.end());
+      node_at[position[i]] = i;
+    }
+    slot_.assign(p.edges.size(), -1);
     for (size_t k = 0; k < p.edges.size(); ++k) {
       const IsotropicEdge& e = p.edges[k];
-      const auto bi = ji.middleRows(rows_per_edge * k, rows_per_edge);
-      const auto bj = jj.middleRows(rows_per_edge * k, rows_per_edge);
-      if (e.i > 0) diagonal[e.i].noalias() += bi.transpose() * bi;
-      if (e.j > 0) diagonal[e.j].noalias() += bj.transpose() * bj;
-      if (e.i > 0 && e.j > 0) {
-        add(Col(e.i), Col(e.j), Eigen::MatrixXd(bi.transpose() * bj));
+      if (e.i == 0 || e.j == 0 || e.i == e.j) continue;
+      const bool i_first = position[e.i] < position[e.j];
+      const auto& list = below[i_first ? e.i : e.j];
+      slot_[k] = static_cast<int>(
+          std::lower_bound(list.begin(), list.end(),
+                           position[i_first ? e.j : e.i]) -
+          list.begin());
+    }
+    const int size = block * (n - 1);
+    std::vector<int> outer(size + 1, 0);
+    std::vector<int> inner;
+    for (int pos = 0; pos < n - 1; ++pos) {
+      const auto& list = below[node_at[pos]];
+      for (int c = 0; c < block; ++c) {
+        for (int r = c; r < block; ++r) inner.push_back(block * pos + r);
+        for (int q : list) {
+          for (int r = 0; r < block; ++r) inner.push_back(block * q + r);
+        }
+        outer[block * pos + c + 1] = static_cast<int>(inner.size());
       }
     }
-    for (int i = 1; i < n; ++i) {
-      diagonal[i].bottomRightCorner(q, q) += curvature[i];
-      for (int c = 0; c < block; ++c) {
-        for (int a = 0; a < block; ++a) {
-          trip.emplace_back(Col(i) + a, Col(i) + c, diagonal[i](a, c));
+    pattern_.resize(size, size);
+    pattern_.resizeNonZeros(static_cast<Eigen::Index>(inner.size()));
+    std::copy(outer.begin(), outer.end(), pattern_.outerIndexPtr());
+    std::copy(inner.begin(), inner.end(), pattern_.innerIndexPtr());
+    std::fill_n(pattern_.valuePtr(), inner.size(), 0.0);
+  }
+
+  // Lower triangle of H (reads model's blocks and curvature).
+  SpMat Assemble(const IsotropicProblem& p, const NewtonModel& model) const {
+    using Block = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic,
+                                Eigen::ColMajor, 6, 6>;
+    SpMat h = pattern_;
+    double* values = h.valuePtr();
+    const int* outer = h.outerIndexPtr();
+    const int b = block_, rpe = model.rows_per_edge;
+    // m's lower triangle into node i's diagonal block.
+    auto add_diagonal = [&](int i, const Block& m) {
+      const int col = b * position_[i];
+      for (int c = 0; c < b; ++c) {
+        for (int r = c; r < b; ++r) values[outer[col + c] + r - c] += m(r, c);
+      }
+    };
+    Block product(b, b);
+    for (size_t k = 0; k < p.edges.size(); ++k) {
+      const IsotropicEdge& e = p.edges[k];
+      const auto bi = model.ji.middleRows(rpe * k, rpe);
+      const auto bj = model.jj.middleRows(rpe * k, rpe);
+      if (e.i > 0) add_diagonal(e.i, product.noalias() = bi.transpose() * bi);
+      if (e.j > 0) add_diagonal(e.j, product.noalias() = bj.transpose() * bj);
+      if (e.i == 0 || e.j == 0) continue;
+      product.noalias() = bi.transpose() * bj;
+      if (e.i == e.j) {
+        add_diagonal(e.i, product + product.transpose());
+        continue;
+      }
+      // The block's rows are the later node's unknowns.
+      const bool i_first = position_[e.i] < position_[e.j];
+      const int col = b * position_[i_first ? e.i : e.j];
+      for (int c = 0; c < b; ++c) {
+        double* column = values + outer[col + c] + (b - c) + b * slot_[k];
+        for (int r = 0; r < b; ++r) {
+          column[r] += i_first ? product(c, r) : product(r, c);
         }
       }
     }
-    if (perm != nullptr) {
-      for (auto& t : trip) {
-        t = Eigen::Triplet<double>((*perm)[t.row()], (*perm)[t.col()],
-                                   t.value());
+    const int q = model.q, d = model.d;
+    for (int i = 1; i < model.n; ++i) {
+      const int col = b * position_[i];
+      for (int c = 0; c < q; ++c) {
+        for (int r = c; r < q; ++r) {
+          values[outer[col + d + c] + r - c] += model.curvature[i](r, c);
+        }
       }
     }
-    SpMat h(Size(), Size());
-    h.setFromTriplets(trip.begin(), trip.end());
     return h;
   }
+
+ private:
+  int block_;
+  std::vector<int> position_;
+  std::vector<int> slot_;  // Per edge: its off-diagonal block's place.
+  SpMat pattern_;
 };
 
 // The per-edge part of LinearizeIsotropic with fixed-size d x d blocks (the
@@ -925,9 +1005,16 @@ NewtonModel LinearizeIsotropic(const IsotropicProblem& p, const SpMat& m,
 
 void IsotropicNewtonSystem(const IsotropicProblem& p, const SpMat& m,
                            const Eigen::MatrixXd& y, SpMat* hessian,
-                           Eigen::VectorXd* gradient) {
+                           Eigen::VectorXd* gradient,
+                           const std::vector<int>* node_order) {
   const NewtonModel model = LinearizeIsotropic(p, m, y);
-  *hessian = model.Hessian(p);
+  std::vector<int> position(model.n, model.n - 1);
+  for (int i = 1; i < model.n; ++i) {
+    position[i] = node_order != nullptr ? (*node_order)[i] : i - 1;
+  }
+  const SpMat lower =
+      LowerHessianAssembler(p, position, model.block).Assemble(p, model);
+  *hessian = lower.selfadjointView<Eigen::Lower>();
   *gradient = model.gradient;
 }
 
@@ -973,8 +1060,8 @@ namespace {
 bool PreconditionedCg(
     const IsotropicProblem& p, const NewtonModel& model,
     const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& precondition,
-    const Eigen::VectorXd& rhs, double relative_residual, double max_seconds,
-    Eigen::VectorXd* x) {
+    const Eigen::VectorXd& rhs, double relative_residual,
+    double objective_tolerance, double max_seconds, Eigen::VectorXd* x) {
   constexpr int kMaxIterations = 50;
   const auto start = std::chrono::steady_clock::now();
   x->setZero(rhs.size());
@@ -984,7 +1071,14 @@ bool PreconditionedCg(
   double rz = r.dot(z);
   const double target = relative_residual * rhs.norm();
   for (int k = 0; k < kMaxIterations; ++k) {
-    if (r.norm() <= target) return true;
+    // rz = r^T P^-1 r ~ r^T H^-1 r is what the step leaves of the model's
+    // decrease (the objective above the exact Newton step's): the Euclidean
+    // residual can stall on stiff directions that no longer matter
+    // (parking-garage: |r| / |g| at 5e-3 from the 5th of 12 iterations,
+    // rz at 5e-10 f, then a new factorization).
+    if (r.norm() <= target || (k > 0 && rz <= objective_tolerance)) {
+      return true;
+    }
     const Eigen::VectorXd hd = model.Times(p, dir);
     const double curvature = dir.dot(hd);
     if (!(curvature > 0.0) || !(rz > 0.0)) return false;
@@ -997,7 +1091,7 @@ bool PreconditionedCg(
     rz = rz_next;
     if (SecondsSince(start) > max_seconds) break;
   }
-  return r.norm() <= target;
+  return r.norm() <= target || rz <= objective_tolerance;
 }
 
 }  // namespace
@@ -1009,10 +1103,13 @@ namespace {
 int NewtonRefineSplit(const IsotropicProblem& p, const SpMat& m,
                       const ReducedBlocks& blocks, int max_iterations,
                       Eigen::MatrixXd* y, bool stop_early,
+                      double supernodal_flops_per_entry,
                       std::map<std::string, double>* phase_seconds) {
   const int d = p.d, n = static_cast<int>(p.nodes.size());
   PhaseClock clock(phase_seconds);
-  const std::vector<int> perm = HessianPermutation(blocks, d == 2 ? 3 : 6);
+  const int block = d == 2 ? 3 : 6;
+  const std::vector<int> perm = HessianPermutation(blocks, block);
+  const LowerHessianAssembler assembler(p, blocks.position, block);
   // Variable projection: the translations are kept optimal for the
   // rotations (node 0's held), so that each step is the Newton step of the
   // reduced objective min_t f(t, R). Without it the steps along the soft
@@ -1030,7 +1127,7 @@ int NewtonRefineSplit(const IsotropicProblem& p, const SpMat& m,
   // found once (the Hessian's pattern does not change); else LDL^T. The
   // factor of the first Hessian preconditions CG on the later ones; a new
   // one is made only when CG meets negative curvature or does not converge.
-  PositiveDefiniteFactor llt(d);
+  PositiveDefiniteFactor llt(d, supernodal_flops_per_entry);
   Eigen::SimplicialLDLT<SpMat> ldlt;
   enum { kNone, kLlt, kLdlt } factor = kNone;
   bool analyzed = false;
@@ -1063,13 +1160,22 @@ int NewtonRefineSplit(const IsotropicProblem& p, const SpMat& m,
     const Eigen::VectorXd& g = model.gradient;
     clock.Lap("linearize");
     Eigen::VectorXd step;
-    const bool cg =
-        factor == kLlt &&
-        PreconditionedCg(p, model, solve, -g, eta, 0.5 * factor_seconds, &step);
+    // With stop_early the certificate follows, and it needs the objective
+    // within 1e-6 f of a critical point's: conjugate gradients stop once
+    // the step leaves less than 1e-9 f of its decrease (parking-garage:
+    // 8 iterations instead of 12 and a new factorization; its bound 8e-10 f
+    // -> 2.4e-8 f, 1/40 of what it must prove). Without stop_early
+    // (refining to the end) the convergence test below needs the forcing
+    // term's accuracy.
+    const double objective_tolerance = stop_early ? 1e-9 * f : 0.0;
+    const bool cg = factor == kLlt &&
+                    PreconditionedCg(p, model, solve, -g, eta,
+                                     objective_tolerance,
+                                     0.5 * factor_seconds, &step);
     clock.Lap("cg");
     if (!cg) {
       const auto factor_start = std::chrono::steady_clock::now();
-      const SpMat h = model.Hessian(p, &perm);
+      const SpMat h = assembler.Assemble(p, model);
       clock.Lap("assemble");
       if (!analyzed) llt.Analyze(h);
       analyzed = true;
@@ -1143,7 +1249,8 @@ bool CertifySplit(const IsotropicProblem& p, const ReducedBlocks& b,
   result->delta =
       std::max(o.relative_gap * std::max(f, 0.0) / (d * n), 1e-12 * scale);
   clock.Lap("lambda");
-  ShiftedCertificateOp op(b, lambda, &result->phase_seconds);
+  ShiftedCertificateOp op(b, lambda, o.supernodal_flops_per_entry,
+                         &result->phase_seconds);
   // Inertia of K(-delta): S + delta I >= 0 iff no negative pivot. Else the
   // shift goes down by tens until it is below lambda_min.
   double sigma = -result->delta;
@@ -1199,6 +1306,7 @@ int NewtonRefine(const IsotropicProblem& p, const SpMat& m, int max_iterations,
     return -1;
   }
   return NewtonRefineSplit(p, m, blocks, max_iterations, y, stop_early,
+                           CertificateOptions().supernodal_flops_per_entry,
                            phase_seconds);
 }
 
@@ -1239,6 +1347,7 @@ bool CertifyGraph(const Graph& graph, const CertificateOptions& options,
   // certified graph into an uncertified one).
   result->refine_iterations =
       NewtonRefineSplit(p, m, blocks, options.max_refine_iterations, &y, true,
+                        options.supernodal_flops_per_entry,
                         &result->phase_seconds);
   const bool newton = result->refine_iterations >= 0;
   if (!newton) {
@@ -1252,7 +1361,8 @@ bool CertifyGraph(const Graph& graph, const CertificateOptions& options,
     refine_start = std::chrono::steady_clock::now();
     const int more =
         NewtonRefineSplit(p, m, blocks, options.max_refine_iterations, &y,
-                          false, &result->phase_seconds);
+                          false, options.supernodal_flops_per_entry,
+                          &result->phase_seconds);
     result->refine_seconds += SecondsSince(refine_start);
     if (more >= 0) {
       result->refine_iterations += more;

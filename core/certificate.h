@@ -89,6 +89,15 @@ struct CertificateOptions {
   int max_refine_iterations = 100;
   // Staircase: ranks d+1 .. d + max_rank_increase.
   int max_rank_increase = 3;
+  // 3D graphs: CHOLMOD's supernodal Cholesky for a matrix whose symbolic
+  // analysis counts at least this many flops per factor entry (dense
+  // fronts: sphere2500's Newton Hessian 259, torus3D 423), Eigen's
+  // simplicial one below (parking-garage 52, whose supernodes are too small
+  // for the dense kernels to pay). 2D graphs always simplicial (8-81 on
+  // the benchmark graphs; city10000 measured faster so). CHOLMOD's own
+  // switch is 40; 120 is a guess from these graphs. Tests set 0 or a huge
+  // value to take either path.
+  double supernodal_flops_per_entry = 120.0;
   // Called with one line per stage of the staircase (a rank refined can
   // take minutes on a large 3D graph: torus3D from its file guess); may be
   // empty.
@@ -142,11 +151,15 @@ int RefineIsotropic(const IsotropicProblem& p, int max_iterations,
 // translation, then its rotation's tangent W_i in the generators' basis,
 // retraction R_i Exp(W_i); node 0 held): f(Retract(y, w)) = f(y) + 2 g^T w
 // + w^T H w + O(|w|^3). H is the exact Hessian of that pullback.
+// node_order (optional): node i's block at position node_order[i] (nodes
+// 1..n-1 on 0..n-2, as NewtonRefine assembles it in its elimination
+// order); natural order without it. H is returned with both triangles.
 void IsotropicNewtonSystem(const IsotropicProblem& p,
                            const Eigen::SparseMatrix<double>& m,
                            const Eigen::MatrixXd& y,
                            Eigen::SparseMatrix<double>* hessian,
-                           Eigen::VectorXd* gradient);
+                           Eigen::VectorXd* gradient,
+                           const std::vector<int>* node_order = nullptr);
 // H v without forming H (edge by edge), as NewtonRefine's conjugate
 // gradients use it.
 Eigen::VectorXd IsotropicNewtonProduct(const IsotropicProblem& p,
@@ -165,8 +178,10 @@ Eigen::MatrixXd RetractIsotropic(const IsotropicProblem& p,
 // with that factor (a new factorization only when they fail). Returns the
 // iterations, or -1 when the Newton system cannot be solved (far from a
 // minimum). stop_early: a full step whose predicted decrease is below
-// 1e-7 f is the last (quadratic convergence puts the next one at rounding
-// level) instead of confirming that with one more linearization and solve.
+// 5e-4 f is the last (quadratic convergence puts the next one far below
+// the certificate's tolerance) instead of confirming that with one more
+// linearization and solve, and conjugate gradients stop once the objective
+// they leave above the exact Newton step's is below 1e-9 f.
 int NewtonRefine(const IsotropicProblem& p,
                  const Eigen::SparseMatrix<double>& m, int max_iterations,
                  Eigen::MatrixXd* y, bool stop_early = false,

@@ -133,7 +133,9 @@ TEST(CertificateTest, DataMatrixGivesTheObjective) {
 
 // Refines the graph's values on f, certifies, and compares lambda_min with
 // the dense eigensolver's.
-CertificateResult CheckAgainstDense(const Graph& graph, int rank_extra = 0) {
+CertificateResult CheckAgainstDense(
+    const Graph& graph, int rank_extra = 0,
+    const CertificateOptions& options = CertificateOptions()) {
   IsotropicProblem p;
   std::string error;
   EXPECT_TRUE(BuildIsotropicProblem(graph, &p, &error)) << error;
@@ -145,8 +147,8 @@ CertificateResult CheckAgainstDense(const Graph& graph, int rank_extra = 0) {
   y.topRows(d) << tra, rot;
   RefineIsotropic(p, 200, &y);
   CertificateResult result;
-  EXPECT_TRUE(CertifyRotations(p, m, y.rightCols(d * n), CertificateOptions(),
-                               &result, &error))
+  EXPECT_TRUE(
+      CertifyRotations(p, m, y.rightCols(d * n), options, &result, &error))
       << error;
   const Eigen::MatrixXd s = DenseCertificateMatrix(m, n, d, y.rightCols(d * n));
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(s);
@@ -191,6 +193,27 @@ void CheckNewtonSystem(const Graph& graph, double perturbation) {
   for (int k = 0; k < v.size(); ++k) v(k) = rng.Normal();
   EXPECT_LT((IsotropicNewtonProduct(p, m, y, v) - hd * v).norm(),
             1e-12 * (hd * v).norm());
+  // Assembled in another node order (as NewtonRefine does, in its
+  // elimination order): the same matrix with its blocks renumbered.
+  std::vector<int> order(n);
+  order[0] = n - 1;
+  for (int i = 1; i < n; ++i) order[i] = n - 1 - i;  // Reversed.
+  Eigen::SparseMatrix<double> h_ordered;
+  Eigen::VectorXd g_unused;
+  IsotropicNewtonSystem(p, m, y, &h_ordered, &g_unused, &order);
+  const Eigen::MatrixXd hod(h_ordered);
+  double max_difference = 0.0;
+  for (int i = 1; i < n; ++i) {
+    for (int j = 1; j < n; ++j) {
+      max_difference = std::max(
+          max_difference,
+          (hod.block(block * order[i], block * order[j], block, block) -
+           hd.block(block * (i - 1), block * (j - 1), block, block))
+              .cwiseAbs()
+              .maxCoeff());
+    }
+  }
+  EXPECT_LT(max_difference, 1e-12 * hd.cwiseAbs().maxCoeff());
   auto phi = [&](const Eigen::VectorXd& w) {
     return EdgeSum(p, RetractIsotropic(p, y, w));
   };
@@ -246,6 +269,83 @@ TEST(CertificateTest, NewtonHessianMatchesFiniteDifferences) {
   CheckNewtonSystem(helix, 0.3);
 }
 
+// With the translations optimal for the rotations, the Newton Hessian's
+// Schur complement on the rotation tangents is sum_k C_k^T S C_k: C_k maps
+// the tangents w to the k-th rows of the perturbation R_i G(w_i) (node 0
+// held), S = Q - Lambda the certificate matrix. This ties the refinement's
+// Hessian to the certificate matrix (a factor of K gives S^-1, which can
+// precondition the reduced Newton system), at a point that is not critical.
+void CheckReducedHessian(const Graph& graph) {
+  IsotropicProblem p;
+  std::string error;
+  ASSERT_TRUE(BuildIsotropicProblem(graph, &p, &error)) << error;
+  const int d = p.d, n = static_cast<int>(p.nodes.size());
+  const int q = d == 2 ? 1 : 3, block = d + q;
+  const Eigen::SparseMatrix<double> m = IsotropicDataMatrix(p);
+  Eigen::MatrixXd rot, tra;
+  GraphRotations(graph, p, &rot, &tra);
+  Eigen::MatrixXd y(d, n + d * n);
+  y << tra, rot;
+  Rng rng(3);
+  Eigen::VectorXd shake(block * (n - 1));
+  for (int k = 0; k < shake.size(); ++k) shake(k) = 0.2 * rng.Normal();
+  y = RetractIsotropic(p, y, shake);
+  NewtonRefine(p, m, 0, &y);  // No step: the translations made optimal.
+  Eigen::SparseMatrix<double> h;
+  Eigen::VectorXd g;
+  IsotropicNewtonSystem(p, m, y, &h, &g);
+  const Eigen::MatrixXd hd(h);
+  // Split into translation (t) and rotation tangent (w) unknowns.
+  std::vector<int> t_index, w_index;
+  for (int i = 0; i < n - 1; ++i) {
+    for (int a = 0; a < d; ++a) t_index.push_back(block * i + a);
+    for (int a = 0; a < q; ++a) w_index.push_back(block * i + d + a);
+  }
+  auto sub = [&](const std::vector<int>& rows, const std::vector<int>& cols) {
+    Eigen::MatrixXd out(rows.size(), cols.size());
+    for (size_t r = 0; r < rows.size(); ++r) {
+      for (size_t c = 0; c < cols.size(); ++c) out(r, c) = hd(rows[r], cols[c]);
+    }
+    return out;
+  };
+  const Eigen::MatrixXd htt = sub(t_index, t_index);
+  const Eigen::MatrixXd htw = sub(t_index, w_index);
+  const Eigen::MatrixXd reduced =
+      sub(w_index, w_index) - htw.transpose() * htt.ldlt().solve(htw);
+  const Eigen::MatrixXd s = DenseCertificateMatrix(m, n, d, y.rightCols(d * n));
+  std::vector<Eigen::MatrixXd> gens;
+  if (d == 2) {
+    gens.push_back((Eigen::Matrix2d() << 0, -1, 1, 0).finished());
+  } else {
+    for (int k = 0; k < 3; ++k) {
+      gens.push_back(Skew<double>(Eigen::Vector3d::Unit(k)));
+    }
+  }
+  Eigen::MatrixXd expected = Eigen::MatrixXd::Zero(q * (n - 1), q * (n - 1));
+  for (int k = 0; k < d; ++k) {
+    Eigen::MatrixXd c = Eigen::MatrixXd::Zero(d * n, q * (n - 1));
+    for (int i = 1; i < n; ++i) {
+      for (int a = 0; a < q; ++a) {
+        const Eigen::MatrixXd dr = y.middleCols(n + d * i, d) * gens[a];
+        c.block(d * i, q * (i - 1) + a, d, 1) = dr.row(k).transpose();
+      }
+    }
+    expected += c.transpose() * s * c;
+  }
+  EXPECT_LT((reduced - expected).norm(), 1e-8 * expected.norm());
+  // Away from a critical point (there S Y^T = 0).
+  EXPECT_GT((s * y.rightCols(d * n).transpose()).norm(), 1e-3 * s.norm());
+}
+
+TEST(CertificateTest, ReducedNewtonHessianIsTheCertificateMatrix) {
+  Graph cycle;
+  BuildCycle2(8, 0.05, 0.05, 3, &cycle);
+  CheckReducedHessian(cycle);
+  Graph helix;
+  BuildHelix3(4, 0.05, 4, &helix);
+  CheckReducedHessian(helix);
+}
+
 TEST(CertificateTest, KnownOptimumCertified2DAnd3D) {
   Graph cycle;
   BuildCycle2(24, 0.02, 0.01, 1, &cycle);
@@ -256,6 +356,20 @@ TEST(CertificateTest, KnownOptimumCertified2DAnd3D) {
   BuildHelix3(10, 0.02, 2, &helix);
   const CertificateResult c3 = CheckAgainstDense(helix);
   EXPECT_TRUE(c3.certified);
+  // Either factorization of K (CHOLMOD supernodal, Eigen simplicial; the
+  // default picks one by the factor's density) gives that lambda_min.
+  for (double flops_per_entry : {0.0, 1e30}) {
+    CertificateOptions forced;
+    forced.supernodal_flops_per_entry = flops_per_entry;
+    const CertificateResult c = CheckAgainstDense(helix, 0, forced);
+    EXPECT_TRUE(c.certified);
+    EXPECT_NEAR(c.lambda_min, c3.lambda_min, 1e-9 * c3.objective);
+    CertificateResult refined;
+    std::string why;
+    ASSERT_TRUE(CertifyGraph(helix, forced, &refined, &why)) << why;
+    EXPECT_TRUE(refined.certified);
+    EXPECT_NEAR(refined.objective, c3.objective, 1e-8 * c3.objective);
+  }
   CertificateResult via_graph;
   std::string error;
   ASSERT_TRUE(CertifyGraph(helix, CertificateOptions(), &via_graph, &error));
