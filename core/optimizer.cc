@@ -178,6 +178,20 @@ class FirstStepWatcher : public ceres::IterationCallback {
     if (s.iteration == 0) return ceres::SOLVER_CONTINUE;
     if (s.step_is_successful) {
       done_ = true;
+      rejections_in_a_row_ = 0;
+      return ceres::SOLVER_CONTINUE;
+    }
+    // Under way, kRejectionsBeforeProbe rejections in a row: Gauss-Newton's
+    // model (LM's, damped) no longer predicts the cost, LM's radius has
+    // shrunk 1024 times, and LM crawls from there (a grid world with 0.35
+    // rad heading noise: 8 rejections after 3 accepted steps, then 45 short
+    // steps). Where the probe takes Newton steps (2D graphs), LM stops for
+    // them.
+    if (done_) {
+      if (newton_midway_ && ++rejections_in_a_row_ == kRejectionsBeforeProbe) {
+        stalled_midway_ = true;
+        return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
+      }
       return ceres::SOLVER_CONTINUE;
     }
     // The second rejected step equal to the first (same length, same
@@ -201,11 +215,17 @@ class FirstStepWatcher : public ceres::IterationCallback {
     }
     return ceres::SOLVER_CONTINUE;
   }
+  // Lets LM stop for the probe after rejections in a row under way too.
+  void set_newton_midway(bool newton_midway) { newton_midway_ = newton_midway; }
+  bool stalled_midway() const { return stalled_midway_; }
   bool first_steps_rejected() const { return rejected_; }
   int rejections() const { return rejections_; }
 
  private:
   bool done_ = false;  // A step was accepted: LM is under way.
+  bool newton_midway_ = false;
+  bool stalled_midway_ = false;
+  int rejections_in_a_row_ = 0;
   bool rejected_ = false;
   int rejections_ = 0;
   double first_step_norm_ = 0.0;
@@ -300,7 +320,7 @@ struct ProbeResult {
 ProbeResult GaussNewtonProbe(ceres::Problem* problem,
                              const std::vector<double*>& blocks,
                              int max_iterations, double tolerance,
-                             std::ostream* progress) {
+                             bool newton_from_start, std::ostream* progress) {
   ProbeResult result;
   std::vector<int> sizes, tangent_sizes, offsets;
   std::vector<double> saved;
@@ -395,7 +415,7 @@ ProbeResult GaussNewtonProbe(ceres::Problem* problem,
     // such Gauss-Newton step. Above the start (Gauss-Newton's overshoot from
     // the initial guess) plain Gauss-Newton steps, as before.
     bool newton_taken = false;
-    if (newton && cost < start_cost) {
+    if (newton && (cost < start_cost || newton_from_start)) {
       copy_out(&here);
       const auto hessian_times = [&](const Eigen::VectorXd& v) {
         // Forward difference of the gradient along v, each unknown moved by
@@ -463,6 +483,9 @@ ProbeResult GaussNewtonProbe(ceres::Problem* problem,
       if (newton_ok && cost_after(gauss_newton) < newton_cost) {
         newton_ok = false;
       }
+      // From LM's values under way the Gauss-Newton step is the one LM
+      // rejected: the probe ends when Newton's does not lower the cost.
+      if (!newton_ok && newton_from_start) break;
       if (!newton_ok) dx = gauss_newton;
       newton_taken = newton_ok;
     }
@@ -721,6 +744,17 @@ OptimizerSummary Optimize(Graph* graph, const OptimizerOptions& options,
       options.solver == SolverKind::kLevenbergMarquardt && !landmarks;
   FirstStepWatcher watcher;
   if (probe_allowed) solver_options.callbacks.push_back(&watcher);
+  // The probe's Newton steps need 2D poses (or Euclidean blocks) only.
+  bool newton_possible = true;
+  for (const auto& [key, node] : graph->nodes()) {
+    double* block = node->value.data();
+    if (!problem.HasParameterBlock(block)) continue;
+    const ceres::Manifold* manifold = problem.GetManifold(block);
+    newton_possible = newton_possible &&
+                      (manifold == nullptr ||
+                       dynamic_cast<const SE2Manifold*>(manifold) != nullptr);
+  }
+  watcher.set_newton_midway(newton_possible);
 
   ceres::Solver::Summary ceres_summary;
   const auto add_times = [&summary](const ceres::Solver::Summary& s) {
@@ -735,7 +769,7 @@ OptimizerSummary Optimize(Graph* graph, const OptimizerOptions& options,
   }
   add_times(ceres_summary);
   int iterations = static_cast<int>(ceres_summary.iterations.size()) - 1;
-  if (watcher.first_steps_rejected()) {
+  if (watcher.first_steps_rejected() || watcher.stalled_midway()) {
     std::vector<double*> free_blocks;
     for (const auto& [key, node] : graph->nodes()) {
       double* block = node->value.data();
@@ -746,16 +780,22 @@ OptimizerSummary Optimize(Graph* graph, const OptimizerOptions& options,
       }
     }
     std::ostream* log = options.verbose ? progress : nullptr;
+    const bool midway = watcher.stalled_midway();
     if (log != nullptr) {
-      *log << "LM rejected its first " << watcher.rejections()
-           << " steps: plain Gauss-Newton steps\n";
+      if (midway) {
+        *log << "LM rejected " << kRejectionsBeforeProbe
+             << " steps in a row: Newton steps\n";
+      } else {
+        *log << "LM rejected its first " << watcher.rejections()
+             << " steps: plain Gauss-Newton steps\n";
+      }
     }
     ProbeResult probe;
     {
       const SerialOpenMpScope serial_openmp;
       probe = GaussNewtonProbe(&problem, free_blocks,
                                options.gauss_newton_probe_iterations,
-                               options.function_tolerance, log);
+                               options.function_tolerance, midway, log);
     }
     if (log != nullptr) {
       *log << (probe.converged ? "Gauss-Newton converged; LM confirms\n"
@@ -768,7 +808,9 @@ OptimizerSummary Optimize(Graph* graph, const OptimizerOptions& options,
     // Gauss-Newton steps failed from the values LM resumes at: LM starts
     // from Ceres' default radius instead of an (almost) Gauss-Newton step,
     // which it would reject again and again (seven rejections from 1e12).
-    if (probe.stalled) {
+    // Likewise after Newton steps from LM's values under way (LM had
+    // shrunk its radius there).
+    if (probe.stalled || midway) {
       solver_options.initial_trust_region_radius = std::min(
           solver_options.initial_trust_region_radius, kRadiusAfterStall);
     }
