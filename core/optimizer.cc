@@ -183,6 +183,8 @@ constexpr int kIterationsBeforeLinearTail = 8;
 constexpr int kLinearStepsBeforeNewton = 3;
 constexpr double kLinearRateLow = 0.25;
 constexpr double kLinearRateHigh = 0.9;
+// Probes (and LM runs after them) at most per solve.
+constexpr int kMaxProbes = 3;
 // Relative cost changes below this are rounding (converged), not a tail.
 constexpr double kRoundingLevel = 1e-10;
 
@@ -249,6 +251,16 @@ class FirstStepWatcher : public ceres::IterationCallback {
       return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
     }
     return ceres::SOLVER_CONTINUE;
+  }
+  // For LM's run after a probe: watches for a stall or a linear tail under
+  // way only.
+  void WatchUnderWay() {
+    done_ = true;
+    rejected_ = false;
+    stalled_midway_ = false;
+    rejections_in_a_row_ = 0;
+    linear_steps_ = 0;
+    previous_relative_ = 0.0;
   }
   // Lets LM stop for the probe after rejections in a row under way too.
   void set_newton_midway(bool newton_midway) { newton_midway_ = newton_midway; }
@@ -827,7 +839,10 @@ OptimizerSummary Optimize(Graph* graph, const OptimizerOptions& options,
   }
   add_times(ceres_summary);
   int iterations = static_cast<int>(ceres_summary.iterations.size()) - 1;
-  if (watcher.first_steps_rejected() || watcher.stalled_midway()) {
+  // The probe, and LM again from its values: up to kMaxProbes times, LM
+  // watched for a stall or a linear tail again in between.
+  for (int probes = 1;
+       watcher.first_steps_rejected() || watcher.stalled_midway(); ++probes) {
     std::vector<double*> free_blocks;
     for (const auto& [key, node] : graph->nodes()) {
       double* block = node->value.data();
@@ -861,7 +876,7 @@ OptimizerSummary Optimize(Graph* graph, const OptimizerOptions& options,
                : probe.improved ? "Gauss-Newton lowered the cost; LM goes on\n"
                                 : "Gauss-Newton diverged; LM from the start\n");
     }
-    summary.gauss_newton_iterations = probe.iterations;
+    summary.gauss_newton_iterations += probe.iterations;
     // Gauss-Newton steps failed from the values LM resumes at: LM starts
     // from Ceres' default radius instead of an (almost) Gauss-Newton step,
     // which it would reject again and again (seven rejections from 1e12).
@@ -871,10 +886,14 @@ OptimizerSummary Optimize(Graph* graph, const OptimizerOptions& options,
       solver_options.initial_trust_region_radius = std::min(
           solver_options.initial_trust_region_radius, kRadiusAfterStall);
     }
-    solver_options.callbacks.erase(
-        std::remove(solver_options.callbacks.begin(),
-                    solver_options.callbacks.end(), &watcher),
-        solver_options.callbacks.end());
+    if (probes < kMaxProbes) {
+      watcher.WatchUnderWay();
+    } else {
+      solver_options.callbacks.erase(
+          std::remove(solver_options.callbacks.begin(),
+                      solver_options.callbacks.end(), &watcher),
+          solver_options.callbacks.end());
+    }
     const SerialOpenMpScope serial_openmp;
     ceres::Solve(solver_options, &problem, &ceres_summary);
     add_times(ceres_summary);
