@@ -886,9 +886,8 @@ OptimizerSummary Optimize(Graph* graph, const OptimizerOptions& options,
       solver_options.initial_trust_region_radius = std::min(
           solver_options.initial_trust_region_radius, kRadiusAfterStall);
     }
-    if (probes < kMaxProbes) {
-      watcher.WatchUnderWay();
-    } else {
+    watcher.WatchUnderWay();  // Also clears the flags that ended LM.
+    if (probes >= kMaxProbes) {
       solver_options.callbacks.erase(
           std::remove(solver_options.callbacks.begin(),
                       solver_options.callbacks.end(), &watcher),
