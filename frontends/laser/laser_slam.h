@@ -206,11 +206,12 @@ struct LaserSlamConfig {
   // search goes on to its best pose as without it. 0: off (every search runs
   // to its best pose or its work bound). Measured on ACES, MIT CSAIL and
   // Intel (all candidates reaching the score): where the best pose failed
-  // ICP, the first one had failed too in 141 of 144 searches, and those
-  // searches spent 1.5-1.9e6 look-ups each against 3e4-6e5 to the first;
-  // of 52 accepted closures, the first pose of 50 passed (the other 2 were
-  // found after their first pose failed: lost with 1). 1 is set from those
-  // (with 2 or 3, consecutive poses on one failing peak use them up alike).
+  // ICP, the first one had failed too in 234 of 239 searches, and those
+  // searches spent 1.5-1.9e6 look-ups each (means) against medians of
+  // 3e4-6e5 to the first; of 53 accepted closures, the first pose of 51
+  // passed (the other 2 are lost with 1). 1 is set from those (a guess;
+  // allowing 3 failures at distinct ICP results kept the 2 but saved a
+  // fifth as many look-ups: consecutive poses climb one failing peak).
   int loop_search_verifications = 1;
   double loop_min_score = 0.2;
   int loop_min_inliers = 100;
