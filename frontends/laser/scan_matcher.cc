@@ -416,21 +416,29 @@ Pose2 MatchTarget::Correlative(const Points2& source, const Pose2& initial,
   *score = 0.0;
   if (work != nullptr) *work = CorrelativeWork();
   if (points_.empty() || source.empty()) return initial;
-  double source_reach = 0.0;
-  for (const Eigen::Vector2d& p : source) {
-    source_reach = std::max(source_reach, p.norm());
-  }
-  source_reach += options.window_xy + 2.0 * options.resolution;
-  BuildLikelihood(options, initial.t.array() - source_reach,
-                  initial.t.array() + source_reach);
-  const LikelihoodGrids& l = likelihood_;
-  const double res = l.resolution;
-  const int nxy = static_cast<int>(std::ceil(options.window_xy / res));
   const int ntheta = options.step_theta > 0
                          ? static_cast<int>(std::ceil(options.window_theta /
                                                       options.step_theta))
                          : 0;
   const int num_angles = 2 * ntheta + 1;
+  // The grids need to cover where the source can land: the box of its
+  // points at the search's angles, widened by the window (the grids' cost
+  // grows with their area).
+  Eigen::Vector2d lo = initial.t, hi = initial.t;
+  for (int a = 0; a < num_angles; ++a) {
+    const Eigen::Matrix2d r =
+        RotationMatrix2D(initial.theta + (a - ntheta) * options.step_theta);
+    for (const Eigen::Vector2d& p : source) {
+      const Eigen::Vector2d q = r * p + initial.t;
+      lo = lo.cwiseMin(q);
+      hi = hi.cwiseMax(q);
+    }
+  }
+  const double pad = options.window_xy + 2.0 * options.resolution;
+  BuildLikelihood(options, lo.array() - pad, hi.array() + pad);
+  const LikelihoodGrids& l = likelihood_;
+  const double res = l.resolution;
+  const int nxy = static_cast<int>(std::ceil(options.window_xy / res));
   const size_t n = source.size();
   // Cell indices of the rotated (untranslated-offset) points per angle.
   std::vector<int> cx(num_angles * n), cy(num_angles * n);
