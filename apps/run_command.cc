@@ -287,13 +287,17 @@ int RunRunCommand(const std::vector<std::string>& args) {
       "run: loop search %.2f s: submap targets %.2f, correlative %.2f, ICP "
       "%.2f, chi2 tests %.2f, final pass %.2f; %d local candidates verified "
       "from a recent closure; global searches %.2g look-ups each (mean), "
-      "%d of %d stopped by the probe, %d by the work bound\n",
+      "%d of %d stopped by the probe, %d by the work bound; all searches "
+      "%.2g look-ups each (mean), %d of %d stopped by a failed "
+      "verification\n",
       s.loop_seconds, s.loop_target_seconds, s.loop_correlative_seconds,
       s.loop_icp_seconds, s.loop_chi2_seconds, s.loop_final_seconds,
       s.seeded_verifications,
       s.global_search_evaluations / std::max(1, s.global_closures_proposed),
       s.global_searches_probe_stopped, s.global_closures_proposed,
-      s.global_searches_budget_stopped);
+      s.global_searches_budget_stopped,
+      s.loop_search_evaluations / std::max(1, s.loop_searches),
+      s.loop_searches_verify_stopped, s.loop_searches);
   std::printf("run: wrote %s, %s\n", trajectory_path.c_str(),
               graph_path.c_str());
   if (log.scans_out_of_order > 0 || duplicate_stamps > 0) {

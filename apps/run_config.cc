@@ -91,6 +91,7 @@ Section Schema(RunConfig* c) {
          D("anchored_path", &s.loop_anchored_path),
          D("optimize_min_correction", &s.loop_optimize_min_correction),
          B("seeded_verification", &s.loop_seeded_verification),
+         I("search_verifications", &s.loop_search_verifications),
          I("min_inliers", &s.loop_min_inliers),
          D("min_fitness", &s.loop_min_fitness),
          D("max_sigma", &s.loop_max_sigma),

@@ -158,11 +158,14 @@ def main():
                     break
                 errors.add(match.groups())
                 times = TIMES.search(text)
+                share = ""
                 if times:
                     slam_s, loop_s = (float(v) for v in times.groups())
                     loops.append((loop_s, loop_s / max(slam_s, 1e-9)))
-                print("%s run %d/%d: %.1f s wall, %.1f s CPU, %.0f MB" %
-                      (name, i + 1, args.runs, wall, cpu, mem),
+                    share = ", loop search %.1f s (%.1f %% of slam)" % (
+                        loop_s, 100 * loops[-1][1])
+                print("%s run %d/%d: %.1f s wall, %.1f s CPU, %.0f MB%s" %
+                      (name, i + 1, args.runs, wall, cpu, mem, share),
                       file=sys.stderr)
             if len(walls) < args.runs or not match:
                 # A log that fails still gets its row (and the exit status).

@@ -436,12 +436,14 @@ double RunBuilding(const SyntheticLog& data, LaserSlamStats* stats) {
   std::printf(
       "rmse %.3f m (odometry %.1f m), closures %d of %d accepted (%d global "
       "of %d proposed, %d stopped by the probe), %d reverted, %d rejected, "
-      "largest correction %.2f m %.1f deg, loop search %.2f s of %.2f s\n",
+      "largest correction %.2f m %.1f deg, %d of %d searches stopped by a "
+      "failed verification, loop search %.2f s of %.2f s\n",
       rmse, PositionRmse(data.odometry, data.truth), s.closures_accepted,
       s.closures_proposed, s.global_closures_accepted,
       s.global_closures_proposed, s.global_searches_probe_stopped,
       s.closures_reverted, s.closures_rejected, s.largest_correction_m,
-      s.largest_correction_deg, s.loop_seconds,
+      s.largest_correction_deg, s.loop_searches_verify_stopped, s.loop_searches,
+      s.loop_seconds,
       s.matching_seconds + s.loop_seconds + s.optimization_seconds +
           s.refine_seconds);
   return rmse;

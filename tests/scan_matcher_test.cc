@@ -208,6 +208,33 @@ TEST(ScanMatcherTest, CorrelativeWorkBoundStopsTheSearch) {
   EXPECT_LT((early.t - t.f.truth.t).norm(), 0.1);
 }
 
+// A target seen from (0.5, -0.3, 0.2) all round (a place's submap).
+MatchTarget PlaceTarget(const std::vector<Wall>& walls, std::mt19937* rng) {
+  MatchTarget target;
+  target.Build(VoxelFilter(Scan(walls, Pose2(0.5, -0.3, 0.2), 0.01, rng, 0.0,
+                                2 * M_PI - 0.1),
+                           0.03),
+               0.3, 0.15);
+  return target;
+}
+
+// The search of a global loop candidate: 3 m, 0.21 rad, six levels.
+CorrelativeOptions GlobalSearch(CorrelativeOptions c, double min_score) {
+  c.window_xy = 3.0;
+  c.window_theta = 0.21;
+  c.levels = 6;
+  c.min_score = min_score;
+  return c;
+}
+
+// A candidate place: its target, the search's guess, and whether it is the
+// place the source was seen at.
+struct Place {
+  const MatchTarget* target;
+  Pose2 guess;
+  bool right;
+};
+
 // The probe of the correlative search (CorrelativeOptions::
 // probe_evaluations), as loop closure uses it for global candidates: a
 // scan of the room searched as a global candidate (3 m, 0.21 rad, six
@@ -237,24 +264,11 @@ TEST(ScanMatcherTest, CorrelativeProbeStopsAtAWrongPlaceAndKeepsTheRightOne) {
       clutter.push_back(wall);
     }
   }
-  MatchTarget wrong;
-  wrong.Build(VoxelFilter(Scan(clutter, Pose2(0.5, -0.3, 0.2), 0.01, &rng, 0.0,
-                               2 * M_PI - 0.1),
-                          0.03),
-              0.3, 0.15);
-  CorrelativeOptions exact = t.c;
-  exact.window_xy = 3.0;
-  exact.window_theta = 0.21;
-  exact.levels = 6;
-  exact.min_score = 0.3;
+  const MatchTarget wrong = PlaceTarget(clutter, &rng);
+  const CorrelativeOptions exact = GlobalSearch(t.c, 0.3);
   CorrelativeOptions probed = exact;
   probed.probe_evaluations = 5e4;
   const Points2 source = VoxelFilter(t.f.source, 0.2);
-  struct Place {
-    const MatchTarget* target;
-    Pose2 guess;
-    bool right;
-  };
   for (const Place& place :
        {Place{&t.f.target, t.f.truth * Pose2(1.0, -0.5, 0.03), true},
         Place{&t.f.target, t.guess, true},
@@ -280,6 +294,78 @@ TEST(ScanMatcherTest, CorrelativeProbeStopsAtAWrongPlaceAndKeepsTheRightOne) {
       // Past the probe by at most one expansion (4 children).
       EXPECT_LT(work.evaluations,
                 probed.probe_evaluations + 4.0 * source.size());
+    }
+  }
+}
+
+// The verified search (MatchTarget::Verifier), as loop closure uses it
+// (loop_search_verifications = 1): each pose the search finds reaching the
+// minimum score is matched by ICP at once; a failing match stops the search
+// (the place is wrong), a passing one lets it go on to its best pose. Here
+// a scan of the room is searched as a global candidate (3 m, 0.21 rad, six
+// levels) at a wrong place that reaches the score (a room of the same size
+// with other inner walls: the outer walls fit, the rest does not) and at
+// the right place.
+// - Wrong place: the search without verification runs to its best pose,
+//   which fails ICP; the verified search stops at the first pose, in a
+//   small fraction of the look-ups, and reports nothing.
+// - Right place: the first pose passes, and the answer and the work are
+//   those of the search without verification.
+TEST(ScanMatcherTest, CorrelativeVerifiedSearchStopsAtAWrongPlaceThatScores) {
+  CorrelativeCase t = MakeCorrelativeCase();
+  std::vector<Wall> other = RectangleWalls(-6, -4, 6, 4);
+  for (const Wall& w : RectangleWalls(-1.0, 0.5, 0.0, 2.5)) other.push_back(w);
+  for (const Wall& w : RectangleWalls(2.0, -2.0, 3.5, -1.2)) {
+    other.push_back(w);
+  }
+  other.push_back({Eigen::Vector2d(-4, -4), Eigen::Vector2d(-4, -1.5)});
+  std::mt19937 rng(11);
+  const MatchTarget wrong = PlaceTarget(other, &rng);
+  const CorrelativeOptions c = GlobalSearch(t.c, 0.2);
+  const Points2 source = VoxelFilter(t.f.source, 0.2);
+  const Points2& query = t.f.source;
+  for (const Place& place :
+       {Place{&t.f.target, t.f.truth * Pose2(1.0, -0.5, 0.03), true},
+        Place{&wrong, Pose2(0.5, 0.2, 0.1), false}}) {
+    const MatchTarget& target = *place.target;
+    auto passes = [&](const Pose2& pose) {
+      const MatchResult m = target.Icp(query, pose, IcpOptions());
+      return m.success && m.fitness >= 0.8;
+    };
+    // As laser_slam's: no more ICP once a pose has passed.
+    int calls = 0;
+    bool passed = false;
+    const MatchTarget::Verifier verify = [&](const Pose2& pose, double) {
+      if (passed) return true;
+      ++calls;
+      passed = passes(pose);
+      return passed;
+    };
+    double plain_score = 0.0, score = 0.0;
+    CorrelativeWork plain_work, work;
+    const Pose2 best =
+        target.Correlative(source, place.guess, c, &plain_score, &plain_work);
+    const Pose2 pose =
+        target.Correlative(source, place.guess, c, &score, &work, &verify);
+    EXPECT_GT(plain_score, c.min_score);
+    EXPECT_EQ(calls, 1);
+    if (place.right) {
+      EXPECT_TRUE(passes(best));
+      EXPECT_FALSE(work.verify_stopped);
+      EXPECT_EQ(score, plain_score);
+      EXPECT_LT((pose.t - best.t).norm(), 1e-12);
+      EXPECT_NEAR(pose.theta, best.theta, 1e-12);
+      EXPECT_LT((pose.t - t.f.truth.t).norm(), 0.1);
+      EXPECT_EQ(work.evaluations, plain_work.evaluations);
+    } else {
+      EXPECT_FALSE(passes(best));
+      EXPECT_EQ(work.verified, 1);
+      EXPECT_TRUE(work.verify_stopped);
+      EXPECT_EQ(score, 0.0);
+      EXPECT_LT((pose.t - place.guess.t).norm(), 1e-12);
+      EXPECT_EQ(work.evaluations, plain_work.first_found_evaluations);
+      // 7.9e4 against 4.5e5 look-ups.
+      EXPECT_LT(work.evaluations, 0.25 * plain_work.evaluations);
     }
   }
 }

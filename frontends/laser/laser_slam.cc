@@ -570,16 +570,47 @@ bool LaserSlam::VerifyLoop(int k, int j, const Pose2& guess,
   // slightly, as in the final pass.
   double score = 0.0;
   Pose2 coarse = guess;
+  // The verified search's passing match (reused when it is the best pose).
+  bool verified = false;
+  Pose2 verified_pose;
+  MatchResult verified_match;
   ++stats_.closures_proposed;
   if (search != nullptr) {
     // Only poses reaching loop_min_score can pass: the search prunes the
     // rest, and a candidate where none does is not refined.
     CorrelativeOptions options = *search;
     options.min_score = std::max(options.min_score, config_.loop_min_score);
+    options.grid_margin = 0.0;  // The target is searched once.
     clock = std::chrono::steady_clock::now();
     CorrelativeWork work;
-    coarse = target.Correlative(search_query, guess, options, &score, &work);
-    stats_.loop_correlative_seconds += Seconds(clock);
+    // Verified search: the poses found reaching the score are matched by
+    // ICP at once, until one passes; when loop_search_verifications have
+    // failed, the place is taken to be wrong and the search stops (most
+    // wrong places fail at their first such pose, and proving which pose
+    // is best costs most of a search).
+    int failed = 0;
+    double icp_seconds = 0.0;
+    const MatchTarget::Verifier verify = [&](const Pose2& pose, double s) {
+      if (verified) return true;
+      const auto icp_clock = std::chrono::steady_clock::now();
+      MatchResult m = target.Icp(query, pose, config_.icp);
+      icp_seconds += Seconds(icp_clock);
+      m.score = s;
+      verified = LoopMatchPasses(m, config_);
+      if (verified) {
+        verified_pose = pose;
+        verified_match = m;
+      }
+      return verified || ++failed < config_.loop_search_verifications;
+    };
+    coarse = target.Correlative(
+        search_query, guess, options, &score, &work,
+        config_.loop_search_verifications > 0 ? &verify : nullptr);
+    stats_.loop_correlative_seconds += Seconds(clock) - icp_seconds;
+    stats_.loop_icp_seconds += icp_seconds;
+    ++stats_.loop_searches;
+    stats_.loop_search_evaluations += work.evaluations;
+    stats_.loop_searches_verify_stopped += work.verify_stopped ? 1 : 0;
     if (global) {
       stats_.global_search_evaluations += work.evaluations;
       stats_.global_searches_probe_stopped += work.probe_stopped ? 1 : 0;
@@ -588,7 +619,10 @@ bool LaserSlam::VerifyLoop(int k, int j, const Pose2& guess,
     if (score < config_.loop_min_score) return false;
   }
   clock = std::chrono::steady_clock::now();
-  MatchResult match = target.Icp(query, coarse, config_.icp);
+  const bool reuse = verified && verified_pose.t == coarse.t &&
+                     verified_pose.theta == coarse.theta;
+  MatchResult match =
+      reuse ? verified_match : target.Icp(query, coarse, config_.icp);
   stats_.loop_icp_seconds += Seconds(clock);
   match.score = score;
   if (search == nullptr) {

@@ -340,8 +340,9 @@ void MatchTarget::BuildLikelihood(const CorrelativeOptions& options,
   l.sigma = options.sigma;
   l.levels = std::max(0, options.levels);
   // Some slack so that nearby queries (tracking) reuse the grids.
-  l.valid_lo = (want_lo.array() - 5.0).matrix().cwiseMax(target_lo);
-  l.valid_hi = (want_hi.array() + 5.0).matrix().cwiseMin(target_hi);
+  const double margin = std::max(0.0, options.grid_margin);
+  l.valid_lo = (want_lo.array() - margin).matrix().cwiseMax(target_lo);
+  l.valid_hi = (want_hi.array() + margin).matrix().cwiseMin(target_hi);
   l.valid_hi = l.valid_hi.cwiseMax(l.valid_lo);
   // Level l bounds the offsets [d, d + 2^l) by the block of cells starting
   // at a point's cell for offset d: a point below or left of the valid part
@@ -355,6 +356,9 @@ void MatchTarget::BuildLikelihood(const CorrelativeOptions& options,
       1, std::vector<float>(static_cast<size_t>(l.width) * l.height, 0.0f));
   std::vector<float>& fine = l.pyramid[0];
   const double inv_two_sigma2 = 1.0 / (2.0 * options.sigma * options.sigma);
+  // exp(-(dx^2 + dy^2) / 2 sigma^2) = exp(-dx^2 / ..) exp(-dy^2 / ..): one
+  // exponential per row and column of a point's kernel, not per cell.
+  std::vector<double> gx(2 * kernel + 1), gy(2 * kernel + 1);
   for (const Eigen::Vector2d& p : points_) {
     if ((p.array() < l.valid_lo.array() - reach).any() ||
         (p.array() > l.valid_hi.array() + reach).any()) {
@@ -362,16 +366,22 @@ void MatchTarget::BuildLikelihood(const CorrelativeOptions& options,
     }
     const int cx = FloorToCell((p.x() - l.origin.x()) / res);
     const int cy = FloorToCell((p.y() - l.origin.y()) / res);
-    for (int y = std::max(0, cy - kernel);
-         y <= std::min(l.height - 1, cy + kernel); ++y) {
-      for (int x = std::max(0, cx - kernel);
-           x <= std::min(l.width - 1, cx + kernel); ++x) {
-        const Eigen::Vector2d center =
-            l.origin + res * Eigen::Vector2d(x + 0.5, y + 0.5);
-        const float v = static_cast<float>(
-            std::exp(-(center - p).squaredNorm() * inv_two_sigma2));
-        float& cell = fine[static_cast<size_t>(y) * l.width + x];
-        cell = std::max(cell, v);
+    const int x0 = std::max(0, cx - kernel);
+    const int x1 = std::min(l.width - 1, cx + kernel);
+    const int y0 = std::max(0, cy - kernel);
+    const int y1 = std::min(l.height - 1, cy + kernel);
+    for (int x = x0; x <= x1; ++x) {
+      const double d = l.origin.x() + res * (x + 0.5) - p.x();
+      gx[x - x0] = std::exp(-d * d * inv_two_sigma2);
+    }
+    for (int y = y0; y <= y1; ++y) {
+      const double d = l.origin.y() + res * (y + 0.5) - p.y();
+      gy[y - y0] = std::exp(-d * d * inv_two_sigma2);
+    }
+    for (int y = y0; y <= y1; ++y) {
+      float* row = &fine[static_cast<size_t>(y) * l.width];
+      for (int x = x0; x <= x1; ++x) {
+        row[x] = std::max(row[x], static_cast<float>(gy[y - y0] * gx[x - x0]));
       }
     }
   }
@@ -401,25 +411,34 @@ void MatchTarget::BuildLikelihood(const CorrelativeOptions& options,
 
 Pose2 MatchTarget::Correlative(const Points2& source, const Pose2& initial,
                                const CorrelativeOptions& options, double* score,
-                               CorrelativeWork* work) const {
+                               CorrelativeWork* work,
+                               const Verifier* verify) const {
   *score = 0.0;
   if (work != nullptr) *work = CorrelativeWork();
   if (points_.empty() || source.empty()) return initial;
-  double source_reach = 0.0;
-  for (const Eigen::Vector2d& p : source) {
-    source_reach = std::max(source_reach, p.norm());
-  }
-  source_reach += options.window_xy + 2.0 * options.resolution;
-  BuildLikelihood(options, initial.t.array() - source_reach,
-                  initial.t.array() + source_reach);
-  const LikelihoodGrids& l = likelihood_;
-  const double res = l.resolution;
-  const int nxy = static_cast<int>(std::ceil(options.window_xy / res));
   const int ntheta = options.step_theta > 0
                          ? static_cast<int>(std::ceil(options.window_theta /
                                                       options.step_theta))
                          : 0;
   const int num_angles = 2 * ntheta + 1;
+  // The grids need to cover where the source can land: the box of its
+  // points at the search's angles, widened by the window (the grids' cost
+  // grows with their area).
+  Eigen::Vector2d lo = initial.t, hi = initial.t;
+  for (int a = 0; a < num_angles; ++a) {
+    const Eigen::Matrix2d r =
+        RotationMatrix2D(initial.theta + (a - ntheta) * options.step_theta);
+    for (const Eigen::Vector2d& p : source) {
+      const Eigen::Vector2d q = r * p + initial.t;
+      lo = lo.cwiseMin(q);
+      hi = hi.cwiseMax(q);
+    }
+  }
+  const double pad = options.window_xy + 2.0 * options.resolution;
+  BuildLikelihood(options, lo.array() - pad, hi.array() + pad);
+  const LikelihoodGrids& l = likelihood_;
+  const double res = l.resolution;
+  const int nxy = static_cast<int>(std::ceil(options.window_xy / res));
   const size_t n = source.size();
   // Cell indices of the rotated (untranslated-offset) points per angle.
   std::vector<int> cx(num_angles * n), cy(num_angles * n);
@@ -441,6 +460,12 @@ Pose2 MatchTarget::Correlative(const Points2& source, const Pose2& initial,
                            : std::numeric_limits<double>::infinity();
   bool found = false;  // A pose reaching min_score has been scored.
   bool probe_stopped = false;
+  bool verify_stopped = false;
+  int verified = 0;
+  auto pose_of = [&](int a, int dx, int dy) {
+    return Pose2(initial.t.x() + dx * res, initial.t.y() + dy * res,
+                 initial.theta + (a - ntheta) * options.step_theta);
+  };
   auto sum = [&](const std::vector<float>& grid, int a, int dx, int dy) {
     evaluations += static_cast<double>(n);
     double s = 0.0;
@@ -472,11 +497,22 @@ Pose2 MatchTarget::Correlative(const Points2& source, const Pose2& initial,
         for (const Candidate& c : candidates) {
           if (c.upper <= best || evaluations > budget) break;
           if (level == 0) {
+            if (!found && work != nullptr) {
+              work->first_found_evaluations = evaluations;
+            }
             found = true;
             best = c.upper;
             best_a = c.angle;
             best_dx = c.dx;
             best_dy = c.dy;
+            if (verify != nullptr && *verify) {
+              ++verified;
+              if (!(*verify)(pose_of(c.angle, c.dx, c.dy),
+                             c.upper / static_cast<double>(n))) {
+                verify_stopped = true;
+                break;
+              }
+            }
             continue;
           }
           if (!found && evaluations > probe) {
@@ -494,6 +530,7 @@ Pose2 MatchTarget::Correlative(const Points2& source, const Pose2& initial,
             }
           }
           search(children, level - 1);
+          if (verify_stopped) break;
         }
       };
   const int top = l.levels;
@@ -510,11 +547,14 @@ Pose2 MatchTarget::Correlative(const Points2& source, const Pose2& initial,
     work->evaluations = evaluations;
     work->probe_stopped = probe_stopped;
     work->budget_stopped = evaluations > budget;
+    work->verified = verified;
+    work->verify_stopped = verify_stopped;
   }
-  if (options.min_score > 0 && !(best > min_sum)) return initial;
+  if (verify_stopped || (options.min_score > 0 && !(best > min_sum))) {
+    return initial;
+  }
   *score = std::max(0.0, best) / static_cast<double>(n);
-  return Pose2(initial.t.x() + best_dx * res, initial.t.y() + best_dy * res,
-               initial.theta + (best_a - ntheta) * options.step_theta);
+  return pose_of(best_a, best_dx, best_dy);
 }
 
 MatchResult MatchTarget::Match(const Points2& source, const Pose2& initial,

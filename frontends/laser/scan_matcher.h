@@ -24,6 +24,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "core/lie.h"
@@ -95,6 +96,11 @@ struct CorrelativeOptions {
   // found early, and where it is wrong most of the work goes into proving
   // that none does (loose bounds over a wide window), up to the work bound.
   double probe_evaluations = 0.0;
+  // The likelihood grids are built this far (m) beyond where the source
+  // can land, so that the next searches nearby (tracking) reuse them; a
+  // target searched once (loop verification) needs none: building the
+  // grids and their pyramid costs in proportion to their area.
+  double grid_margin = 5.0;
 };
 
 // What a correlative search did.
@@ -102,6 +108,10 @@ struct CorrelativeWork {
   double evaluations = 0.0;     // Likelihood look-ups.
   bool probe_stopped = false;   // Stopped by probe_evaluations.
   bool budget_stopped = false;  // Stopped by max_evaluations.
+  // Look-ups when the first pose reaching min_score was scored (0: none).
+  double first_found_evaluations = 0.0;
+  int verified = 0;             // Poses handed to the verifier.
+  bool verify_stopped = false;  // Stopped by the verifier.
 };
 
 struct MatchResult {
@@ -156,9 +166,16 @@ class MatchTarget {
   // Best pose on the search lattice around `initial` by the correlative
   // score (mean likelihood of the source points); writes the score (and
   // what the search did, when `work` is given).
+  //
+  // `verify` (optional) is called with each pose that becomes the best
+  // (reaching min_score), in the order the search finds them, and its score;
+  // when it returns false the search stops there and reports nothing (the
+  // initial pose, score 0; CorrelativeWork::verify_stopped).
+  using Verifier = std::function<bool(const Pose2& pose, double score)>;
   Pose2 Correlative(const Points2& source, const Pose2& initial,
                     const CorrelativeOptions& options, double* score,
-                    CorrelativeWork* work = nullptr) const;
+                    CorrelativeWork* work = nullptr,
+                    const Verifier* verify = nullptr) const;
 
   // Correlative search, then ICP from its result.
   MatchResult Match(const Points2& source, const Pose2& initial,
