@@ -24,6 +24,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <iterator>
@@ -880,7 +881,8 @@ TEST(InertialFlightTest, HoverAndVerticalMotionLeaveTheYawUnobservable) {
 // (sigma below kYawHintSigma, 7-8 s in) and the yaw being known (11-13 s)
 // was 14.3 / 65.0 / 206 (seeds 61 / 69 / 72; pose 3.1 / 56 / 125). Now that
 // pass restarts from the rough alignment (inertial_estimator.h): 7.3 / 5.4 /
-// 5.1 (pose 3.6 / 3.6 / 4.7). By hand over
+// 5.1 (pose 3.6 / 3.6 / 4.7); 6.2 / 3.7 / 4.4 once the restarts stopped
+// counting the alignment's fixes twice (InertialInitialization::unaligned_*). By hand over
 // seeds 5, 61-73 (20 s and 60 s flights; the stretch exists on 11 and 14
 // of them): mean 32.6 -> 6.6 and 23.5 -> 6.1, worst 206 -> 11.7 and 106 ->
 // 9.0; one flight got worse (seed 5, 20 s: 6.7 -> 11.7).
@@ -932,6 +934,62 @@ TEST(InertialFlightTest, WindowWithoutYawRestartsFromTheRoughAlignment) {
   std::printf("mean bias NEES %.2f\n", mean);
   EXPECT_LT(mean, 6.0 * 1.5);
   EXPECT_GT(mean, 6.0 / 1.5);
+}
+
+// The pass restarted from the rough yaw is converged at every update: its
+// heading still moves by tens of degrees per update there (a 1 Hz keyframe
+// brings a second of new horizontal acceleration), and LM, which rejects its
+// first Gauss-Newton steps along the heading, stopped at the window's
+// 10-iteration cap. The flight of scripts/benchmark_inertial.py's 200 s,
+// 1 Hz keyframe entry (simulator defaults, seed 1; its first 15 s): rough yaw
+// at 7 s (29 deg +- 14 off), yaw known at 9 s; the keyframe at 8 s was
+// published 25 deg off, 18 deg from that window's own optimum (the same run
+// with an iteration cap of 200), 7 deg off. Now the same as the optimum.
+TEST(InertialFlightTest, PassRestartedFromTheRoughYawIsConverged) {
+  InertialSimulationConfig config;
+  config.duration = 200.0;
+  config.position_rate = 1.0;
+  config.seed = 1;
+  InertialData data;
+  std::string error;
+  ASSERT_TRUE(SimulateInertial(config, &data, &error)) << error;
+  data.has_initial_state = false;  // As from a file: the initializer starts.
+  const TimeNs end = data.imu.front().stamp + SecondsToNs(15.0);
+  auto after_end = [&](const auto& x) { return x.stamp > end; };
+  data.imu.erase(std::find_if(data.imu.begin(), data.imu.end(), after_end),
+                 data.imu.end());
+  data.positions.erase(
+      std::find_if(data.positions.begin(), data.positions.end(), after_end),
+      data.positions.end());
+  InertialOptions options;
+  options.keyframe_rate_hz = 1.0;
+  InertialInitialization init;
+  ASSERT_TRUE(InitializeInertial(data, options, &init, &error)) << error;
+  ASSERT_NE(init.rough, nullptr) << init.summary;
+  InertialRun run, converged;
+  ASSERT_TRUE(RunSlidingWindow(data, options, &run, nullptr, &error)) << error;
+  InertialOptions unlimited = options;
+  unlimited.window.max_iterations = 200;
+  ASSERT_TRUE(RunSlidingWindow(data, unlimited, &converged, nullptr, &error))
+      << error;
+  ASSERT_EQ(run.filter.size(), converged.filter.size());
+  int count = 0;
+  for (size_t k = 0; k < run.filter_yaw_unknown; ++k) {
+    if (run.filter[k].stamp < init.yaw_hint_stamp) continue;
+    InertialGroundTruth truth;
+    ASSERT_TRUE(InterpolateGroundTruth(data.ground_truth, run.filter[k].stamp,
+                                       200000000, &truth));
+    const double off = RotationErrorDeg(run.filter[k].state.pose.q,
+                                        converged.filter[k].state.pose.q);
+    std::printf(
+        "%.0f s: rotation error %.1f deg, %.1f deg from the optimum's %.1f\n",
+        NsToSeconds(run.filter[k].stamp - data.imu.front().stamp),
+        RotationErrorDeg(run.filter[k].state.pose.q, truth.pose.q), off,
+        RotationErrorDeg(converged.filter[k].state.pose.q, truth.pose.q));
+    EXPECT_LT(off, 1.0) << k;
+    ++count;
+  }
+  EXPECT_GE(count, 2) << run.initialization_summary;
 }
 
 }  // namespace

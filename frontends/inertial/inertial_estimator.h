@@ -50,7 +50,11 @@ namespace slam {
 // below kYawHintSigma), that pass restarts from it (a catch-up over the
 // keyframes so far, with twice the rough sigma): from an arbitrary heading
 // it fits the horizontal accelerations, mapped in the wrong direction, with
-// tilt, which the biases then carry.
+// tilt, which the biases then carry. That restarted pass iterates to
+// convergence (its heading still moves by tens of degrees per update). The
+// restarts replay the fixes the alignment used: they take its velocity, tilt
+// and gyro bias as their start's mean with the sigmas from before it
+// (InertialInitialization::unaligned_*), not counting those fixes twice.
 // While that pass's yaw sigma is above kAlignmentMaxYawSigma, its
 // marginalization prior is kept from knowing the heading better than 60
 // degrees, or than its start when restarted from the rough yaw

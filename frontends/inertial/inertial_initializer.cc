@@ -479,6 +479,9 @@ bool InitializeInertial(const InertialData& data,
     init->tilt_sigma = 0.1;  // Mean reading of the first block, in motion.
     init->gyro_bias_sigma = options.moving_start_gyro_bias_sigma;
   }
+  init->unaligned_velocity_sigma = init->velocity_sigma;
+  init->unaligned_tilt_sigma = init->tilt_sigma;
+  init->unaligned_gyro_bias_sigma = init->gyro_bias_sigma;
   // Roll and pitch from the mean accelerometer reading (R^T up ~ accel).
   Eigen::Matrix3d r_tilt =
       Eigen::Quaterniond::FromTwoVectors(first.AccelMean(), up)

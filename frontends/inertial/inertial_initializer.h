@@ -109,6 +109,16 @@ struct InertialInitialization {
   double yaw_sigma = M_PI;
   double gyro_bias_sigma = 0.01;
   double accel_bias_sigma = 0.1;
+  // The sigmas of velocity, tilt and gyro bias before the alignment (the
+  // IMU and the priors alone, no fix). The estimators replay the fixes the
+  // alignment used, from the first keyframe on: they take the aligned
+  // state's velocity, tilt and gyro bias as their start's mean with these
+  // sigmas, not with the fit's, which would count those fixes twice
+  // (inertial_estimator.cc, MakeInitialGuess). The yaw keeps the fit's
+  // sigma, doubled: it is the linearisation point the window needs.
+  double unaligned_velocity_sigma = 1.0;
+  double unaligned_tilt_sigma = 0.1;
+  double unaligned_gyro_bias_sigma = 0.01;
   bool still_start = false;
   double still_seconds = 0.0;
   bool yaw_observable = false;
