@@ -396,8 +396,13 @@ class PositiveDefiniteFactor {
       // cholmod_analyze's counts for the order used: flops and nnz(L).
       const cholmod_common& c = supernodal_llt_.cholmod();
       supernodal_ = c.lnz > 0 && c.fl >= flops_per_entry_ * c.lnz;
+      flops_ = c.fl;
+      entries_ = c.lnz;
     }
-    if (!supernodal_) simplicial_llt_.analyzePattern(a);
+    if (!supernodal_) {
+      simplicial_llt_.analyzePattern(a);
+      flops_ = entries_ = 0.0;  // Counted from the first factor.
+    }
   }
   bool Factorize(const SpMat& a) {
     if (supernodal_) {
@@ -405,8 +410,23 @@ class PositiveDefiniteFactor {
       return supernodal_llt_.info() == Eigen::Success;
     }
     simplicial_llt_.factorize(a);
-    return simplicial_llt_.info() == Eigen::Success;
+    if (simplicial_llt_.info() != Eigen::Success) return false;
+    if (entries_ == 0.0) {
+      // CHOLMOD's count (cholmod_analyze): sum over the columns of L of
+      // the squared entry count; the pattern is fixed after Analyze.
+      const SpMat& l = simplicial_llt_.matrixL().nestedExpression();
+      for (Eigen::Index j = 0; j < l.outerSize(); ++j) {
+        const double c = l.outerIndexPtr()[j + 1] - l.outerIndexPtr()[j];
+        flops_ += c * c;
+        entries_ += c;
+      }
+    }
+    return true;
   }
+  // Of the last successful factorization's pattern: its flop count and the
+  // entries of L (a solve with the factor costs 4 flops per entry).
+  double Flops() const { return flops_; }
+  double Entries() const { return entries_; }
   Eigen::VectorXd Solve(const Eigen::VectorXd& rhs) const {
     if (supernodal_) return supernodal_llt_.solve(rhs);
     return simplicial_llt_.solve(rhs);
@@ -416,6 +436,7 @@ class PositiveDefiniteFactor {
   bool try_supernodal_;
   double flops_per_entry_;
   bool supernodal_ = false;
+  double flops_ = 0.0, entries_ = 0.0;
   Eigen::CholmodSupernodalLLT<SpMat> supernodal_llt_;
   Eigen::SimplicialLLT<SpMat, Eigen::Lower, Eigen::NaturalOrdering<int>>
       simplicial_llt_;
@@ -792,6 +813,12 @@ struct NewtonModel {
     }
     return out;
   }
+  // Flops of Times: per edge four (rows x block) products, per node one
+  // q x q.
+  double TimesFlops(const IsotropicProblem& p) const {
+    return 8.0 * rows_per_edge * block * static_cast<double>(p.edges.size()) +
+           2.0 * q * q * n;
+  }
 };
 
 // Assembles the lower triangle of a NewtonModel's H with node i's block at
@@ -1051,26 +1078,23 @@ namespace {
 // (near a minimum H changes little from one Newton step to the next, so a
 // few iterations replace a factorization: one per refinement instead of
 // one per step, as SE-Sync preconditions its truncated CG with a fixed
-// Cholesky factor). It gives up (false) after max_seconds, half the time
-// the last factorization took: on graphs whose factor is cheap against its
-// solves (parking-garage: Hessian and factorization 0.1 s, 39 iterations
-// 0.15 s; loaded machine) refactorizing is faster. Written out rather than
+// Cholesky factor). It gives up (false) after max_iterations (CgBudget:
+// a count of work, not of seconds, so that the result does not depend on
+// the machine's load). Written out rather than
 // Eigen's ConjugateGradient because it must detect negative curvature (then
 // false: the caller factorizes the Hessian anew) and needs no assembled matrix.
 bool PreconditionedCg(
     const IsotropicProblem& p, const NewtonModel& model,
     const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& precondition,
     const Eigen::VectorXd& rhs, double relative_residual,
-    double objective_tolerance, double max_seconds, Eigen::VectorXd* x) {
-  constexpr int kMaxIterations = 50;
-  const auto start = std::chrono::steady_clock::now();
+    double objective_tolerance, int max_iterations, Eigen::VectorXd* x) {
   x->setZero(rhs.size());
   Eigen::VectorXd r = rhs;
   Eigen::VectorXd z = precondition(r);
   Eigen::VectorXd dir = z;
   double rz = r.dot(z);
   const double target = relative_residual * rhs.norm();
-  for (int k = 0; k < kMaxIterations; ++k) {
+  for (int k = 0; k < max_iterations; ++k) {
     // rz = r^T P^-1 r ~ r^T H^-1 r is what the step leaves of the model's
     // decrease (the objective above the exact Newton step's): the Euclidean
     // residual can stall on stiff directions that no longer matter
@@ -1089,12 +1113,21 @@ bool PreconditionedCg(
     const double rz_next = r.dot(z);
     dir = z + (rz_next / rz) * dir;
     rz = rz_next;
-    if (SecondsSince(start) > max_seconds) break;
   }
   return r.norm() <= target || rz <= objective_tolerance;
 }
 
 }  // namespace
+
+int CgBudget(double factor_flops, double factor_entries, double product_flops) {
+  constexpr int kMinIterations = 10, kMaxIterations = 50;
+  const double per_iteration = 4.0 * factor_entries + product_flops;
+  if (!(per_iteration > 0.0)) return kMaxIterations;
+  const double iterations = std::ceil(factor_flops / per_iteration);
+  return static_cast<int>(std::clamp(iterations,
+                                     static_cast<double>(kMinIterations),
+                                     static_cast<double>(kMaxIterations)));
+}
 
 namespace {
 
@@ -1153,7 +1186,6 @@ int NewtonRefineSplit(const IsotropicProblem& p, const SpMat& m,
   // quadratic rate (sphere2500's predicted decreases 0.2, 3.5e-4, 5.7e-8,
   // 1.7e-16 with exact steps).
   double eta = 1e-3;
-  double factor_seconds = 0.0;
   int it = 0;
   for (; it < max_iterations; ++it) {
     const NewtonModel model = LinearizeIsotropic(p, m, *y);
@@ -1168,13 +1200,13 @@ int NewtonRefineSplit(const IsotropicProblem& p, const SpMat& m,
     // (refining to the end) the convergence test below needs the forcing
     // term's accuracy.
     const double objective_tolerance = stop_early ? 1e-9 * f : 0.0;
-    const bool cg = factor == kLlt &&
-                    PreconditionedCg(p, model, solve, -g, eta,
-                                     objective_tolerance,
-                                     0.5 * factor_seconds, &step);
+    const bool cg =
+        factor == kLlt &&
+        PreconditionedCg(
+            p, model, solve, -g, eta, objective_tolerance,
+            CgBudget(llt.Flops(), llt.Entries(), model.TimesFlops(p)), &step);
     clock.Lap("cg");
     if (!cg) {
-      const auto factor_start = std::chrono::steady_clock::now();
       const SpMat h = assembler.Assemble(p, model);
       clock.Lap("assemble");
       if (!analyzed) llt.Analyze(h);
@@ -1189,7 +1221,6 @@ int NewtonRefineSplit(const IsotropicProblem& p, const SpMat& m,
       clock.Lap("factorize");
       step = solve(-g);
       clock.Lap("solve");
-      factor_seconds = SecondsSince(factor_start);
     }
     if (!step.allFinite()) return -1;
     if (converged(g, step)) return it;
