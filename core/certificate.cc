@@ -282,7 +282,67 @@ std::vector<int> CertificatePermutation(const ReducedBlocks& b) {
   return perm;
 }
 
-bool SplitDataMatrix(const SpMat& m, int n, int d, ReducedBlocks* blocks,
+// The elimination order of the pose graph (its Laplacian, both triangles,
+// in `laplacian`; AMD's order given): METIS's nested dissection instead
+// when it needs fewer flops by CHOLMOD's symbolic count for the Laplacian
+// (the node-blocked factorizations scale with it: blocks of b unknowns
+// multiply every column count by b, the flops by b^3). Tried only on 3D
+// graphs whose Newton Hessian (blocks of 6) would have dense fronts by
+// AMD's count (supernodal_flops_per_entry, as PositiveDefiniteFactor
+// decides): METIS costs more than AMD (sphere2500 16 ms, city10000 117 ms
+// against a few), which pays only where the factorizations dominate.
+// Nested dissection wins there (sphere2500's Newton Hessian 3.57e8 flops
+// against 3.97e8, K 1.06e8 against 1.18e8; torus3D 9.8e8 against 1.35e9),
+// AMD elsewhere (parking-garage 3.0e7 against 2.2e7; on the 2D graphs
+// 1.03-1.31 times AMD's count but city10000's 0.87).
+void ChooseNodeOrdering(SpMat* laplacian, int d,
+                        const CertificateOptions& options,
+                        std::vector<int>* order) {
+  using Ordering = CertificateOptions::Ordering;
+  const int size = static_cast<int>(laplacian->rows());
+  if (size < 2 || options.ordering == Ordering::kAmd) return;
+  cholmod_common c;
+  cholmod_start(&c);
+  c.print = 0;
+  c.supernodal = CHOLMOD_SIMPLICIAL;  // Counts only.
+  cholmod_sparse a = Eigen::viewAsCholmod(*laplacian);
+  a.stype = 1;  // Symmetric, its upper triangle read.
+  // CHOLMOD's flops for the given order (0 when it fails).
+  auto flops = [&](std::vector<int>* perm, double* entries) {
+    c.nmethods = 1;
+    c.method[0].ordering = CHOLMOD_GIVEN;
+    c.postorder = 0;
+    cholmod_factor* f = cholmod_analyze_p(&a, perm->data(), nullptr, 0, &c);
+    const bool ok = f != nullptr && c.status == CHOLMOD_OK;
+    cholmod_free_factor(&f, &c);
+    if (entries != nullptr) *entries = ok ? c.lnz : 0.0;
+    return ok ? c.fl : 0.0;
+  };
+  constexpr int kBlock = 6;  // The 3D Newton Hessian's.
+  double amd_entries = 0.0;
+  const double amd_flops = options.ordering == Ordering::kAuto && d == 3
+                               ? flops(order, &amd_entries)
+                               : 0.0;
+  const bool dense =
+      amd_entries > 0.0 &&
+      kBlock * amd_flops >= options.supernodal_flops_per_entry * amd_entries;
+  if (options.ordering == Ordering::kNestedDissection || dense) {
+    std::vector<int> metis(size);
+    if (cholmod_metis(&a, nullptr, 0, 0, metis.data(), &c) &&
+        c.status == CHOLMOD_OK) {
+      const double metis_flops =
+          options.ordering == Ordering::kAuto ? flops(&metis, nullptr) : 0.0;
+      if (metis_flops > 0.0 ? metis_flops < amd_flops
+                            : options.ordering != Ordering::kAuto) {
+        order->swap(metis);
+      }
+    }
+  }
+  cholmod_finish(&c);
+}
+
+bool SplitDataMatrix(const SpMat& m, int n, int d,
+                     const CertificateOptions& options, ReducedBlocks* blocks,
                      std::string* error) {
   blocks->n = n;
   blocks->d = d;
@@ -315,6 +375,7 @@ bool SplitDataMatrix(const SpMat& m, int n, int d, ReducedBlocks* blocks,
     *error = "no elimination order for the pose graph";
     return false;
   }
+  ChooseNodeOrdering(&blocks->tt, d, options, &order);
   blocks->position.assign(n, n - 1);
   for (int k = 0; k < n - 1; ++k) blocks->position[order[k] + 1] = k;
   blocks->tt_order.resize(n - 1);
@@ -695,7 +756,7 @@ Eigen::MatrixXd DenseCertificateMatrix(const SpMat& m, int n, int d,
                                        const Eigen::MatrixXd& y) {
   ReducedBlocks b;
   std::string error;
-  SplitDataMatrix(m, n, d, &b, &error);
+  SplitDataMatrix(m, n, d, CertificateOptions(), &b, &error);
   const Eigen::MatrixXd tt(b.tt), tr(b.tr), rr(b.rr);
   const Eigen::MatrixXd q = rr - tr.transpose() * tt.ldlt().solve(tr);
   Eigen::MatrixXd s = q;
@@ -1332,8 +1393,8 @@ int NewtonRefine(const IsotropicProblem& p, const SpMat& m, int max_iterations,
                  std::map<std::string, double>* phase_seconds) {
   ReducedBlocks blocks;
   std::string error;
-  if (!SplitDataMatrix(m, static_cast<int>(p.nodes.size()), p.d, &blocks,
-                       &error)) {
+  if (!SplitDataMatrix(m, static_cast<int>(p.nodes.size()), p.d,
+                       CertificateOptions(), &blocks, &error)) {
     return -1;
   }
   return NewtonRefineSplit(p, m, blocks, max_iterations, y, stop_early,
@@ -1345,7 +1406,8 @@ bool CertifyRotations(const IsotropicProblem& p, const SpMat& m,
                       const Eigen::MatrixXd& y, const CertificateOptions& o,
                       CertificateResult* result, std::string* error) {
   ReducedBlocks b;
-  if (!SplitDataMatrix(m, static_cast<int>(p.nodes.size()), p.d, &b, error)) {
+  if (!SplitDataMatrix(m, static_cast<int>(p.nodes.size()), p.d, o, &b,
+                       error)) {
     return false;
   }
   return CertifySplit(p, b, y, o, result, error);
@@ -1370,7 +1432,7 @@ bool CertifyGraph(const Graph& graph, const CertificateOptions& options,
   const Eigen::MatrixXd given = y;
   clock.Lap("build_values");
   ReducedBlocks blocks;
-  if (!SplitDataMatrix(m, n, d, &blocks, error)) return false;
+  if (!SplitDataMatrix(m, n, d, options, &blocks, error)) return false;
   clock.Lap("split");
   auto refine_start = std::chrono::steady_clock::now();
   // Refined with the early stop first; when that point is not certified,
@@ -1429,7 +1491,7 @@ bool SolveIsotropicGlobally(Graph* graph, const CertificateOptions& options,
   const int d = p.d, n = static_cast<int>(p.nodes.size());
   const SpMat m = IsotropicDataMatrix(p);
   ReducedBlocks b;
-  if (!SplitDataMatrix(m, n, d, &b, error)) return false;
+  if (!SplitDataMatrix(m, n, d, options, &b, error)) return false;
   Eigen::MatrixXd rotations, translations;
   GraphRotations(*graph, p, &rotations, &translations);
   Eigen::MatrixXd y(d, n + d * n);

@@ -98,6 +98,13 @@ struct CertificateOptions {
   // switch is 40; 120 is a guess from these graphs. Tests set 0 or a huge
   // value to take either path.
   double supernodal_flops_per_entry = 120.0;
+  // The elimination order of the pose graph that every factorization of
+  // the certificate shares: kAuto takes AMD's, or METIS's nested
+  // dissection where it counts fewer flops (tried only on 3D graphs whose
+  // factors have dense fronts by the threshold above: sphere2500,
+  // torus3D); tests force either.
+  enum class Ordering { kAuto, kAmd, kNestedDissection };
+  Ordering ordering = Ordering::kAuto;
   // Called with one line per stage of the staircase (a rank refined can
   // take minutes on a large 3D graph: torus3D from its file guess); may be
   // empty.

@@ -373,6 +373,25 @@ TEST(CertificateTest, KnownOptimumCertified2DAnd3D) {
     EXPECT_TRUE(refined.certified);
     EXPECT_NEAR(refined.objective, c3.objective, 1e-8 * c3.objective);
   }
+  // Either elimination order of the pose graph (AMD, METIS's nested
+  // dissection; the default picks by flops) gives the dense solver's
+  // lambda_min and the same refined point, in 2D and 3D.
+  for (auto ordering : {CertificateOptions::Ordering::kAmd,
+                        CertificateOptions::Ordering::kNestedDissection}) {
+    CertificateOptions forced;
+    forced.ordering = ordering;
+    for (const Graph* graph : {&cycle, &helix}) {
+      const CertificateResult dense_checked =
+          CheckAgainstDense(*graph, 0, forced);
+      EXPECT_TRUE(dense_checked.certified);
+      CertificateResult refined;
+      std::string why;
+      ASSERT_TRUE(CertifyGraph(*graph, forced, &refined, &why)) << why;
+      EXPECT_TRUE(refined.certified);
+      const double objective = graph == &cycle ? c2.objective : c3.objective;
+      EXPECT_NEAR(refined.objective, objective, 1e-8 * objective);
+    }
+  }
   CertificateResult via_graph;
   std::string error;
   ASSERT_TRUE(CertifyGraph(helix, CertificateOptions(), &via_graph, &error));
