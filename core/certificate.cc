@@ -282,7 +282,67 @@ std::vector<int> CertificatePermutation(const ReducedBlocks& b) {
   return perm;
 }
 
-bool SplitDataMatrix(const SpMat& m, int n, int d, ReducedBlocks* blocks,
+// The elimination order of the pose graph (its Laplacian, both triangles,
+// in `laplacian`; AMD's order given): METIS's nested dissection instead
+// when it needs fewer flops by CHOLMOD's symbolic count for the Laplacian
+// (the node-blocked factorizations scale with it: blocks of b unknowns
+// multiply every column count by b, the flops by b^3). Tried only on 3D
+// graphs whose Newton Hessian (blocks of 6) would have dense fronts by
+// AMD's count (supernodal_flops_per_entry, as PositiveDefiniteFactor
+// decides): METIS costs more than AMD (sphere2500 16 ms, city10000 117 ms
+// against a few), which pays only where the factorizations dominate.
+// Nested dissection wins there (sphere2500's Newton Hessian 3.57e8 flops
+// against 3.97e8, K 1.06e8 against 1.18e8; torus3D 9.8e8 against 1.35e9),
+// AMD elsewhere (parking-garage 3.0e7 against 2.2e7; on the 2D graphs
+// 1.03-1.31 times AMD's count but city10000's 0.87).
+void ChooseNodeOrdering(SpMat* laplacian, int d,
+                        const CertificateOptions& options,
+                        std::vector<int>* order) {
+  using Ordering = CertificateOptions::Ordering;
+  const int size = static_cast<int>(laplacian->rows());
+  if (size < 2 || options.ordering == Ordering::kAmd) return;
+  cholmod_common c;
+  cholmod_start(&c);
+  c.print = 0;
+  c.supernodal = CHOLMOD_SIMPLICIAL;  // Counts only.
+  cholmod_sparse a = Eigen::viewAsCholmod(*laplacian);
+  a.stype = 1;  // Symmetric, its upper triangle read.
+  // CHOLMOD's flops for the given order (0 when it fails).
+  auto flops = [&](std::vector<int>* perm, double* entries) {
+    c.nmethods = 1;
+    c.method[0].ordering = CHOLMOD_GIVEN;
+    c.postorder = 0;
+    cholmod_factor* f = cholmod_analyze_p(&a, perm->data(), nullptr, 0, &c);
+    const bool ok = f != nullptr && c.status == CHOLMOD_OK;
+    cholmod_free_factor(&f, &c);
+    if (entries != nullptr) *entries = ok ? c.lnz : 0.0;
+    return ok ? c.fl : 0.0;
+  };
+  constexpr int kBlock = 6;  // The 3D Newton Hessian's.
+  double amd_entries = 0.0;
+  const double amd_flops = options.ordering == Ordering::kAuto && d == 3
+                               ? flops(order, &amd_entries)
+                               : 0.0;
+  const bool dense =
+      amd_entries > 0.0 &&
+      kBlock * amd_flops >= options.supernodal_flops_per_entry * amd_entries;
+  if (options.ordering == Ordering::kNestedDissection || dense) {
+    std::vector<int> metis(size);
+    if (cholmod_metis(&a, nullptr, 0, 0, metis.data(), &c) &&
+        c.status == CHOLMOD_OK) {
+      const double metis_flops =
+          options.ordering == Ordering::kAuto ? flops(&metis, nullptr) : 0.0;
+      if (metis_flops > 0.0 ? metis_flops < amd_flops
+                            : options.ordering != Ordering::kAuto) {
+        order->swap(metis);
+      }
+    }
+  }
+  cholmod_finish(&c);
+}
+
+bool SplitDataMatrix(const SpMat& m, int n, int d,
+                     const CertificateOptions& options, ReducedBlocks* blocks,
                      std::string* error) {
   blocks->n = n;
   blocks->d = d;
@@ -315,6 +375,7 @@ bool SplitDataMatrix(const SpMat& m, int n, int d, ReducedBlocks* blocks,
     *error = "no elimination order for the pose graph";
     return false;
   }
+  ChooseNodeOrdering(&blocks->tt, d, options, &order);
   blocks->position.assign(n, n - 1);
   for (int k = 0; k < n - 1; ++k) blocks->position[order[k] + 1] = k;
   blocks->tt_order.resize(n - 1);
@@ -396,8 +457,13 @@ class PositiveDefiniteFactor {
       // cholmod_analyze's counts for the order used: flops and nnz(L).
       const cholmod_common& c = supernodal_llt_.cholmod();
       supernodal_ = c.lnz > 0 && c.fl >= flops_per_entry_ * c.lnz;
+      flops_ = c.fl;
+      entries_ = c.lnz;
     }
-    if (!supernodal_) simplicial_llt_.analyzePattern(a);
+    if (!supernodal_) {
+      simplicial_llt_.analyzePattern(a);
+      flops_ = entries_ = 0.0;  // Counted from the first factor.
+    }
   }
   bool Factorize(const SpMat& a) {
     if (supernodal_) {
@@ -405,8 +471,23 @@ class PositiveDefiniteFactor {
       return supernodal_llt_.info() == Eigen::Success;
     }
     simplicial_llt_.factorize(a);
-    return simplicial_llt_.info() == Eigen::Success;
+    if (simplicial_llt_.info() != Eigen::Success) return false;
+    if (entries_ == 0.0) {
+      // CHOLMOD's count (cholmod_analyze): sum over the columns of L of
+      // the squared entry count; the pattern is fixed after Analyze.
+      const SpMat& l = simplicial_llt_.matrixL().nestedExpression();
+      for (Eigen::Index j = 0; j < l.outerSize(); ++j) {
+        const double c = l.outerIndexPtr()[j + 1] - l.outerIndexPtr()[j];
+        flops_ += c * c;
+        entries_ += c;
+      }
+    }
+    return true;
   }
+  // Of the last successful factorization's pattern: its flop count and the
+  // entries of L (a solve with the factor costs 4 flops per entry).
+  double Flops() const { return flops_; }
+  double Entries() const { return entries_; }
   Eigen::VectorXd Solve(const Eigen::VectorXd& rhs) const {
     if (supernodal_) return supernodal_llt_.solve(rhs);
     return simplicial_llt_.solve(rhs);
@@ -416,6 +497,7 @@ class PositiveDefiniteFactor {
   bool try_supernodal_;
   double flops_per_entry_;
   bool supernodal_ = false;
+  double flops_ = 0.0, entries_ = 0.0;
   Eigen::CholmodSupernodalLLT<SpMat> supernodal_llt_;
   Eigen::SimplicialLLT<SpMat, Eigen::Lower, Eigen::NaturalOrdering<int>>
       simplicial_llt_;
@@ -674,7 +756,7 @@ Eigen::MatrixXd DenseCertificateMatrix(const SpMat& m, int n, int d,
                                        const Eigen::MatrixXd& y) {
   ReducedBlocks b;
   std::string error;
-  SplitDataMatrix(m, n, d, &b, &error);
+  SplitDataMatrix(m, n, d, CertificateOptions(), &b, &error);
   const Eigen::MatrixXd tt(b.tt), tr(b.tr), rr(b.rr);
   const Eigen::MatrixXd q = rr - tr.transpose() * tt.ldlt().solve(tr);
   Eigen::MatrixXd s = q;
@@ -791,6 +873,12 @@ struct NewtonModel {
           curvature[i] * v.segment(Col(i) + d, q);
     }
     return out;
+  }
+  // Flops of Times: per edge four (rows x block) products, per node one
+  // q x q.
+  double TimesFlops(const IsotropicProblem& p) const {
+    return 8.0 * rows_per_edge * block * static_cast<double>(p.edges.size()) +
+           2.0 * q * q * n;
   }
 };
 
@@ -1051,26 +1139,23 @@ namespace {
 // (near a minimum H changes little from one Newton step to the next, so a
 // few iterations replace a factorization: one per refinement instead of
 // one per step, as SE-Sync preconditions its truncated CG with a fixed
-// Cholesky factor). It gives up (false) after max_seconds, half the time
-// the last factorization took: on graphs whose factor is cheap against its
-// solves (parking-garage: Hessian and factorization 0.1 s, 39 iterations
-// 0.15 s; loaded machine) refactorizing is faster. Written out rather than
+// Cholesky factor). It gives up (false) after max_iterations (CgBudget:
+// a count of work, not of seconds, so that the result does not depend on
+// the machine's load). Written out rather than
 // Eigen's ConjugateGradient because it must detect negative curvature (then
 // false: the caller factorizes the Hessian anew) and needs no assembled matrix.
 bool PreconditionedCg(
     const IsotropicProblem& p, const NewtonModel& model,
     const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& precondition,
     const Eigen::VectorXd& rhs, double relative_residual,
-    double objective_tolerance, double max_seconds, Eigen::VectorXd* x) {
-  constexpr int kMaxIterations = 50;
-  const auto start = std::chrono::steady_clock::now();
+    double objective_tolerance, int max_iterations, Eigen::VectorXd* x) {
   x->setZero(rhs.size());
   Eigen::VectorXd r = rhs;
   Eigen::VectorXd z = precondition(r);
   Eigen::VectorXd dir = z;
   double rz = r.dot(z);
   const double target = relative_residual * rhs.norm();
-  for (int k = 0; k < kMaxIterations; ++k) {
+  for (int k = 0; k < max_iterations; ++k) {
     // rz = r^T P^-1 r ~ r^T H^-1 r is what the step leaves of the model's
     // decrease (the objective above the exact Newton step's): the Euclidean
     // residual can stall on stiff directions that no longer matter
@@ -1089,12 +1174,21 @@ bool PreconditionedCg(
     const double rz_next = r.dot(z);
     dir = z + (rz_next / rz) * dir;
     rz = rz_next;
-    if (SecondsSince(start) > max_seconds) break;
   }
   return r.norm() <= target || rz <= objective_tolerance;
 }
 
 }  // namespace
+
+int CgBudget(double factor_flops, double factor_entries, double product_flops) {
+  constexpr int kMinIterations = 10, kMaxIterations = 50;
+  const double per_iteration = 4.0 * factor_entries + product_flops;
+  if (!(per_iteration > 0.0)) return kMaxIterations;
+  const double iterations = std::ceil(factor_flops / per_iteration);
+  return static_cast<int>(std::clamp(iterations,
+                                     static_cast<double>(kMinIterations),
+                                     static_cast<double>(kMaxIterations)));
+}
 
 namespace {
 
@@ -1153,7 +1247,6 @@ int NewtonRefineSplit(const IsotropicProblem& p, const SpMat& m,
   // quadratic rate (sphere2500's predicted decreases 0.2, 3.5e-4, 5.7e-8,
   // 1.7e-16 with exact steps).
   double eta = 1e-3;
-  double factor_seconds = 0.0;
   int it = 0;
   for (; it < max_iterations; ++it) {
     const NewtonModel model = LinearizeIsotropic(p, m, *y);
@@ -1168,13 +1261,13 @@ int NewtonRefineSplit(const IsotropicProblem& p, const SpMat& m,
     // (refining to the end) the convergence test below needs the forcing
     // term's accuracy.
     const double objective_tolerance = stop_early ? 1e-9 * f : 0.0;
-    const bool cg = factor == kLlt &&
-                    PreconditionedCg(p, model, solve, -g, eta,
-                                     objective_tolerance,
-                                     0.5 * factor_seconds, &step);
+    const bool cg =
+        factor == kLlt &&
+        PreconditionedCg(
+            p, model, solve, -g, eta, objective_tolerance,
+            CgBudget(llt.Flops(), llt.Entries(), model.TimesFlops(p)), &step);
     clock.Lap("cg");
     if (!cg) {
-      const auto factor_start = std::chrono::steady_clock::now();
       const SpMat h = assembler.Assemble(p, model);
       clock.Lap("assemble");
       if (!analyzed) llt.Analyze(h);
@@ -1189,7 +1282,6 @@ int NewtonRefineSplit(const IsotropicProblem& p, const SpMat& m,
       clock.Lap("factorize");
       step = solve(-g);
       clock.Lap("solve");
-      factor_seconds = SecondsSince(factor_start);
     }
     if (!step.allFinite()) return -1;
     if (converged(g, step)) return it;
@@ -1301,8 +1393,8 @@ int NewtonRefine(const IsotropicProblem& p, const SpMat& m, int max_iterations,
                  std::map<std::string, double>* phase_seconds) {
   ReducedBlocks blocks;
   std::string error;
-  if (!SplitDataMatrix(m, static_cast<int>(p.nodes.size()), p.d, &blocks,
-                       &error)) {
+  if (!SplitDataMatrix(m, static_cast<int>(p.nodes.size()), p.d,
+                       CertificateOptions(), &blocks, &error)) {
     return -1;
   }
   return NewtonRefineSplit(p, m, blocks, max_iterations, y, stop_early,
@@ -1314,7 +1406,8 @@ bool CertifyRotations(const IsotropicProblem& p, const SpMat& m,
                       const Eigen::MatrixXd& y, const CertificateOptions& o,
                       CertificateResult* result, std::string* error) {
   ReducedBlocks b;
-  if (!SplitDataMatrix(m, static_cast<int>(p.nodes.size()), p.d, &b, error)) {
+  if (!SplitDataMatrix(m, static_cast<int>(p.nodes.size()), p.d, o, &b,
+                       error)) {
     return false;
   }
   return CertifySplit(p, b, y, o, result, error);
@@ -1339,7 +1432,7 @@ bool CertifyGraph(const Graph& graph, const CertificateOptions& options,
   const Eigen::MatrixXd given = y;
   clock.Lap("build_values");
   ReducedBlocks blocks;
-  if (!SplitDataMatrix(m, n, d, &blocks, error)) return false;
+  if (!SplitDataMatrix(m, n, d, options, &blocks, error)) return false;
   clock.Lap("split");
   auto refine_start = std::chrono::steady_clock::now();
   // Refined with the early stop first; when that point is not certified,
@@ -1398,7 +1491,7 @@ bool SolveIsotropicGlobally(Graph* graph, const CertificateOptions& options,
   const int d = p.d, n = static_cast<int>(p.nodes.size());
   const SpMat m = IsotropicDataMatrix(p);
   ReducedBlocks b;
-  if (!SplitDataMatrix(m, n, d, &b, error)) return false;
+  if (!SplitDataMatrix(m, n, d, options, &b, error)) return false;
   Eigen::MatrixXd rotations, translations;
   GraphRotations(*graph, p, &rotations, &translations);
   Eigen::MatrixXd y(d, n + d * n);

@@ -98,6 +98,13 @@ struct CertificateOptions {
   // switch is 40; 120 is a guess from these graphs. Tests set 0 or a huge
   // value to take either path.
   double supernodal_flops_per_entry = 120.0;
+  // The elimination order of the pose graph that every factorization of
+  // the certificate shares: kAuto takes AMD's, or METIS's nested
+  // dissection where it counts fewer flops (tried only on 3D graphs whose
+  // factors have dense fronts by the threshold above: sphere2500,
+  // torus3D); tests force either.
+  enum class Ordering { kAuto, kAmd, kNestedDissection };
+  Ordering ordering = Ordering::kAuto;
   // Called with one line per stage of the staircase (a rank refined can
   // take minutes on a large 3D graph: torus3D from its file guess); may be
   // empty.
@@ -169,6 +176,23 @@ Eigen::VectorXd IsotropicNewtonProduct(const IsotropicProblem& p,
 Eigen::MatrixXd RetractIsotropic(const IsotropicProblem& p,
                                  const Eigen::MatrixXd& y,
                                  const Eigen::VectorXd& step);
+
+// NewtonRefine's conjugate gradients give up (and the Hessian is factorized
+// anew) after this many iterations: as many as cost the flops of one
+// factorization (factor_flops, CHOLMOD's count for its pattern), an
+// iteration costing a solve with the factor (4 factor_entries) and one
+// Hessian product (product_flops), clamped to [10, 50]. A count of work,
+// never of seconds: until this session the limit was half the last
+// factorization's wall time, and the same graph took a second
+// factorization or not with the machine's load (sphere2500: its second
+// step's 17 iterations cut at 11 on a loaded machine, then 0.19 s more
+// for a factorization; its lambda_min -5.12e-8 or -4.80e-8 from run to
+// run). The floor: a simplicial factorization runs at a third or less of
+// the flop rate of the solves (parking-garage 2.2e7 flops in about 50 ms,
+// its CG 5.3e6 flops an iteration in 3.7 ms), a supernodal one at about
+// twice theirs (sphere2500 4e8 flops in 0.25 s, 9e6 an iteration in 4-11
+// ms), so a flop count alone would cut parking-garage's 8 iterations at 4.
+int CgBudget(double factor_flops, double factor_entries, double product_flops);
 
 // Rank d only: Riemannian Newton steps on f (rotations, node 0 held; the
 // exact Hessian of IsotropicNewtonSystem, tested against finite

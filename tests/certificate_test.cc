@@ -4,8 +4,11 @@
 // against a dense eigensolver; a graph with a known global optimum
 // certified; a graph driven into a local minimum (a twisted cycle) not
 // certified, then escaped by the staircase to the global optimum.
+#include <atomic>
 #include <cmath>
 #include <string>
+#include <thread>
+#include <vector>
 
 #include <Eigen/Core>
 #include <Eigen/Eigenvalues>
@@ -370,11 +373,82 @@ TEST(CertificateTest, KnownOptimumCertified2DAnd3D) {
     EXPECT_TRUE(refined.certified);
     EXPECT_NEAR(refined.objective, c3.objective, 1e-8 * c3.objective);
   }
+  // Either elimination order of the pose graph (AMD, METIS's nested
+  // dissection; the default picks by flops) gives the dense solver's
+  // lambda_min and the same refined point, in 2D and 3D.
+  for (auto ordering : {CertificateOptions::Ordering::kAmd,
+                        CertificateOptions::Ordering::kNestedDissection}) {
+    CertificateOptions forced;
+    forced.ordering = ordering;
+    for (const Graph* graph : {&cycle, &helix}) {
+      const CertificateResult dense_checked =
+          CheckAgainstDense(*graph, 0, forced);
+      EXPECT_TRUE(dense_checked.certified);
+      CertificateResult refined;
+      std::string why;
+      ASSERT_TRUE(CertifyGraph(*graph, forced, &refined, &why)) << why;
+      EXPECT_TRUE(refined.certified);
+      const double objective = graph == &cycle ? c2.objective : c3.objective;
+      EXPECT_NEAR(refined.objective, objective, 1e-8 * objective);
+    }
+  }
   CertificateResult via_graph;
   std::string error;
   ASSERT_TRUE(CertifyGraph(helix, CertificateOptions(), &via_graph, &error));
   EXPECT_TRUE(via_graph.certified);
   EXPECT_NEAR(via_graph.objective, c3.objective, 1e-8 * c3.objective);
+}
+
+// The conjugate gradients of the Newton refinement give up after a count of
+// work, one factorization's flops in iterations (clamped to [10, 50]), never
+// after a time: hand-computed budgets.
+TEST(CertificateTest, ConjugateGradientBudgetCountsWork) {
+  // sphere2500's Newton factor: 3.97e8 flops, 1.53e6 entries, products of
+  // 2.85e6 flops: 3.97e8 / (6.12e6 + 2.85e6) = 44.3 -> 45 iterations.
+  EXPECT_EQ(CgBudget(3.97e8, 1.53e6, 2.85e6), 45);
+  // A cheap factor (parking-garage's simplicial one, 2.2e7 flops, 4.1e5
+  // entries, products 3.6e6): 4.3 -> the floor of 10.
+  EXPECT_EQ(CgBudget(2.2e7, 4.1e5, 3.6e6), 10);
+  EXPECT_EQ(CgBudget(1e12, 1e3, 1e3), 50);
+  EXPECT_EQ(CgBudget(0.0, 0.0, 0.0), 50);
+}
+
+// The certificate does not depend on the machine's load: a helix of 300
+// poses (refined in 5 Newton steps, the later ones by conjugate gradients),
+// certified alone and while two threads spin on the cores, gives
+// bit-identical results. With the former cutoff at half a factorization's
+// wall time a slowed run could cut CG, factorize again and end at another
+// point (this test could then fail, though not reproducibly: the cutoff
+// itself now reads no clock, see CgBudget).
+TEST(CertificateTest, SameResultUnderLoad) {
+  Graph helix;
+  BuildHelix3(150, 0.05, 5, &helix);
+  auto certify = [&]() {
+    CertificateResult result;
+    std::string error;
+    EXPECT_TRUE(CertifyGraph(helix, CertificateOptions(), &result, &error))
+        << error;
+    return result;
+  };
+  const CertificateResult quiet = certify();
+  EXPECT_TRUE(quiet.certified);
+  EXPECT_GE(quiet.refine_iterations, 2);
+  std::atomic<bool> stop{false};
+  std::vector<std::thread> load;
+  for (int k = 0; k < 2; ++k) {
+    load.emplace_back([&stop]() {
+      volatile double x = 1.0;
+      while (!stop.load(std::memory_order_relaxed)) x = x * 1.0000001 + 1e-9;
+    });
+  }
+  const CertificateResult loaded = certify();
+  stop = true;
+  for (std::thread& t : load) t.join();
+  EXPECT_EQ(loaded.certified, quiet.certified);
+  EXPECT_EQ(loaded.refine_iterations, quiet.refine_iterations);
+  EXPECT_EQ(loaded.lambda_min, quiet.lambda_min);
+  EXPECT_EQ(loaded.objective, quiet.objective);
+  EXPECT_EQ(loaded.suboptimality_bound, quiet.suboptimality_bound);
 }
 
 // The cycle with its headings twisted by one extra turn around it (winding
