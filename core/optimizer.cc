@@ -9,6 +9,7 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -840,9 +841,16 @@ OptimizerSummary Optimize(Graph* graph, const OptimizerOptions& options,
   add_times(ceres_summary);
   int iterations = static_cast<int>(ceres_summary.iterations.size()) - 1;
   // The probe, and LM again from its values: up to kMaxProbes times, LM
-  // watched for a stall or a linear tail again in between.
+  // watched for a stall or a linear tail again in between. All of them
+  // share options.max_iterations (a caller's budget, such as the laser's
+  // incremental solves of 10 iterations, holds for the whole solve).
+  bool budget_spent = false;
   for (int probes = 1;
        watcher.first_steps_rejected() || watcher.stalled_midway(); ++probes) {
+    if (iterations >= options.max_iterations) {
+      budget_spent = true;
+      break;
+    }
     std::vector<double*> free_blocks;
     for (const auto& [key, node] : graph->nodes()) {
       double* block = node->value.data();
@@ -866,7 +874,8 @@ OptimizerSummary Optimize(Graph* graph, const OptimizerOptions& options,
     {
       const SerialOpenMpScope serial_openmp;
       probe = GaussNewtonProbe(&problem, free_blocks,
-                               options.gauss_newton_probe_iterations,
+                               std::min(options.gauss_newton_probe_iterations,
+                                        options.max_iterations - iterations),
                                options.function_tolerance, midway, log);
     }
     if (log != nullptr) {
@@ -893,17 +902,27 @@ OptimizerSummary Optimize(Graph* graph, const OptimizerOptions& options,
                       solver_options.callbacks.end(), &watcher),
           solver_options.callbacks.end());
     }
+    iterations += probe.iterations;
+    if (iterations >= options.max_iterations) {
+      budget_spent = true;
+      break;
+    }
+    solver_options.max_num_iterations = options.max_iterations - iterations;
     const SerialOpenMpScope serial_openmp;
     ceres::Solve(solver_options, &problem, &ceres_summary);
     add_times(ceres_summary);
-    iterations += probe.iterations +
-                  static_cast<int>(ceres_summary.iterations.size()) - 1;
+    iterations += static_cast<int>(ceres_summary.iterations.size()) - 1;
   }
 
   summary.iterations = iterations;
-  summary.converged = ceres_summary.termination_type == ceres::CONVERGENCE;
+  summary.converged =
+      !budget_spent && ceres_summary.termination_type == ceres::CONVERGENCE;
   summary.usable = ceres_summary.IsSolutionUsable();
-  summary.termination = ceres_summary.message;
+  summary.termination =
+      budget_spent ? "Maximum number of iterations reached (LM and the "
+                     "probe's steps together): " +
+                         std::to_string(iterations)
+                   : ceres_summary.message;
   summary.full_report = ceres_summary.FullReport();
   summary.linear_solver =
       ceres::LinearSolverTypeToString(ceres_summary.linear_solver_type_used);

@@ -143,5 +143,30 @@ TEST(PoseGraphTailsTest, LinearTailOnA3DLatticeTakesNewtonSteps) {
   ExpectFewIterationsToTheOptimum({1, 0.25, false, "grid3d", 1000, 10});
 }
 
+// A caller's iteration budget holds for the whole solve, LM's runs and the
+// probes' Newton steps together (the laser's incremental solves allow 10):
+// on the 3D lattice above LM rejects its first steps and the probe takes
+// 11 steps: the solve took 13 iterations with max_iterations 5, 10 or 12
+// when the probe and each LM run after it had a budget of their own.
+TEST(PoseGraphTailsTest, IterationBudgetHoldsAcrossProbes) {
+  const Case c{1, 0.25, false, "grid3d", 1000, 10};
+  for (const int budget : {5, 10, 12}) {
+    Graph graph = MakeGraph(c);
+    OptimizerOptions options;
+    options.verbose = false;
+    options.max_iterations = budget;
+    const OptimizerSummary summary = Optimize(&graph, options, nullptr);
+    std::printf("budget %d: %d iterations (%d probe steps), %s\n", budget,
+                summary.iterations, summary.gauss_newton_iterations,
+                summary.termination.c_str());
+    EXPECT_LE(summary.iterations, budget) << summary.termination;
+    EXPECT_TRUE(summary.usable) << summary.termination;
+    EXPECT_LT(summary.final_chi2, summary.initial_chi2);
+    if (summary.iterations == budget) {
+      EXPECT_FALSE(summary.converged) << summary.termination;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace slam
