@@ -278,13 +278,10 @@ struct LaserSlamConfig {
   // excursion, yet below a wrong closure's rise per link (simulated,
   // LaserSlamTest: true corrections of 23 deg 0.8 per link over 127
   // links, wrong closures 1.7 to 2.3 per link on a ring or a building,
-  // 17 and far more when they turn a corridor round; in the clang -O1
-  // sanitizer build the biased-scan-match revisit's second correction
-  // 1.05 per link over 128 links). 1.3 per link lies between the true
-  // corrections seen and the wrong ones (1 was a guess from the first
-  // simulations, held on the shared logs; 1.3 is a guess from these).
+  // 17 and far more when they turn a corridor round). 1 per link is a guess
+  // from those simulations, held on the shared logs.
   double loop_global_max_chi2 = 100.0;
-  double loop_max_chi2_per_link = 1.3;
+  double loop_max_chi2_per_link = 1.0;
   // For this many keyframes, a passing match whose correction is within 10
   // times loop_consistency_distance / _angle of an undone one is dropped
   // without another test (each test is a full optimization).
@@ -307,22 +304,7 @@ struct LaserSlamConfig {
   int optimize_every = 200;         // keyframes.
   int loop_optimize_interval = 10;  // keyframes.
   int incremental_iterations = 10;
-  // Every optimization (verbose is ignored). Converged to the rounding of
-  // the cost (relative decrease 1e-13, gradient and step 1e-14) rather
-  // than the optimizer's default 1e-8: each solve's result feeds the loop
-  // chi2 test, the kernel's rejection of closures and every later scan
-  // match, and at 1e-8 the state left by a slow (linear) tail depended on
-  // the optimizer's path, so that which revisit closures passed changed
-  // with the optimizer's stopping rules and the compiler's rounding
-  // (LaserSlamTest.RevisitAfterDriftThroughBiasedScanMatchesIsClosed: the
-  // same closures with LM alone or with its Newton steps once converged).
-  OptimizerOptions optimizer = [] {
-    OptimizerOptions options;
-    options.function_tolerance = 1e-13;
-    options.gradient_tolerance = 1e-14;
-    options.parameter_tolerance = 1e-14;
-    return options;
-  }();
+  OptimizerOptions optimizer;  // Final optimization (verbose is ignored).
   // Final refinement (Finish, after the global optimization): every scan is
   // registered again by ICP, from its current pose, against a map of the
   // optimized keyframes around the keyframe it belongs to (that keyframe
