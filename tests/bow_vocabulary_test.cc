@@ -405,6 +405,11 @@ TEST(VocabularyTest, BadDbow2YamlNamesTheProblem) {
       {"%YAML:1.odes:\n      - { nodeId:1 }\n   \x90   - { nodeId:2 }\n",
        ":3: byte 0x90 is not ASCII text"},
       {replace("vocabulary:", "vocabulary:\x01"), "byte 0x01 is not ASCII"},
+      // fuzz_visual's second finding: OpenCV 4.6's parser never returns on
+      // two "---" lines that go on with text over an indented map.
+      {"%YAML:1.0\n----vocabu1.0\n----vocabullary:\n   k: 2\n   L: 1\n",
+       ":2: a line starting with '---' goes on with text"},
+      {replace("---\n", "--- x\n"), ":2: a line starting with '---'"},
   };
   for (size_t i = 0; i < cases.size(); ++i) {
     const std::string path = dir + "/bad" + std::to_string(i) + ".yml";

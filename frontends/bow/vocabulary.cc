@@ -7,6 +7,8 @@
 #include <limits>
 #include <random>
 #include <sstream>
+#include <string>
+#include <string_view>
 
 #include <zlib.h>
 
@@ -615,11 +617,26 @@ bool Vocabulary::LoadDbow2Yaml(const std::string& path, std::string* error) {
   // forever on some other bytes where it expects indentation (found by
   // fuzz_visual: a 0x90 byte before a sequence item), so anything but
   // printable ASCII, tab and line ends is rejected before it sees the text.
+  // It also never returns on two lines that start with "---" and go on
+  // with text, the second a key over an indented map (found by fuzz_visual:
+  // "----a" then "----b:" and "  k: 2"); a DBoW2 vocabulary's document
+  // marker is "---" alone, so a line starting with "---" must end there.
   size_t line = 1;
-  for (const char c : yaml) {
-    const auto b = static_cast<unsigned char>(c);
+  size_t line_start = 0;
+  for (size_t i = 0; i <= yaml.size(); ++i) {
+    const auto b = i < yaml.size() ? static_cast<unsigned char>(yaml[i]) : '\n';
     if (b == '\n') {
+      const std::string_view text =
+          std::string_view(yaml).substr(line_start, i - line_start);
+      if (text.substr(0, 3) == "---" &&
+          text.find_first_not_of(" \t\r", 3) != std::string_view::npos) {
+        *error = path + ":" + std::to_string(line) +
+                 ": a line starting with '---' goes on with text (a DBoW2 "
+                 "YAML vocabulary's document marker is '---' alone)";
+        return false;
+      }
       ++line;
+      line_start = i + 1;
     } else if ((b < 0x20 && b != '\t' && b != '\r') || b > 0x7e) {
       char hex[8];
       std::snprintf(hex, sizeof(hex), "0x%02x", b);
