@@ -410,6 +410,9 @@ TEST(VocabularyTest, BadDbow2YamlNamesTheProblem) {
       {"%YAML:1.0\n----vocabu1.0\n----vocabullary:\n   k: 2\n   L: 1\n",
        ":2: a line starting with '---' goes on with text"},
       {replace("---\n", "--- x\n"), ":2: a line starting with '---'"},
+      // And its third: "---" after content, over a map.
+      {"%YAML:1.0\n   w: e\np     - { n:1,0\n---\nv:\n k: 2\n",
+       ":4: '---' after content"},
   };
   for (size_t i = 0; i < cases.size(); ++i) {
     const std::string path = dir + "/bad" + std::to_string(i) + ".yml";

@@ -620,20 +620,36 @@ bool Vocabulary::LoadDbow2Yaml(const std::string& path, std::string* error) {
   // It also never returns on two lines that start with "---" and go on
   // with text, the second a key over an indented map (found by fuzz_visual:
   // "----a" then "----b:" and "  k: 2"); a DBoW2 vocabulary's document
-  // marker is "---" alone, so a line starting with "---" must end there.
+  // marker is "---" alone, so a line starting with "---" must end there;
+  // and it comes before any content (a "---" after content, over a map,
+  // hangs it too: "p  - { n:1,0", "---", "v:", " k: 2").
   size_t line = 1;
   size_t line_start = 0;
+  bool content_seen = false;
   for (size_t i = 0; i <= yaml.size(); ++i) {
     const auto b = i < yaml.size() ? static_cast<unsigned char>(yaml[i]) : '\n';
     if (b == '\n') {
       const std::string_view text =
           std::string_view(yaml).substr(line_start, i - line_start);
-      if (text.substr(0, 3) == "---" &&
-          text.find_first_not_of(" \t\r", 3) != std::string_view::npos) {
-        *error = path + ":" + std::to_string(line) +
-                 ": a line starting with '---' goes on with text (a DBoW2 "
-                 "YAML vocabulary's document marker is '---' alone)";
-        return false;
+      if (text.substr(0, 3) == "---") {
+        if (text.find_first_not_of(" \t\r", 3) != std::string_view::npos) {
+          *error = path + ":" + std::to_string(line) +
+                   ": a line starting with '---' goes on with text (a DBoW2 "
+                   "YAML vocabulary's document marker is '---' alone)";
+          return false;
+        }
+        if (content_seen) {
+          *error = path + ":" + std::to_string(line) +
+                   ": '---' after content (a DBoW2 YAML vocabulary is one "
+                   "document, its marker before the content)";
+          return false;
+        }
+      } else {
+        const size_t first = text.find_first_not_of(" \t\r");
+        if (first != std::string_view::npos && text[first] != '%' &&
+            text[first] != '#') {
+          content_seen = true;
+        }
       }
       ++line;
       line_start = i + 1;
