@@ -10,6 +10,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <vector>
 
@@ -882,9 +883,22 @@ bool TrajectoryFromGraph(const Graph& graph, bool use_node_stamps,
   for (const auto& [key, node] : graph.nodes()) {
     if (key.kind != NodeKind::kPose2 && key.kind != NodeKind::kPose3) continue;
     StampedPose p;
-    p.stamp = use_node_stamps && node->has_stamp
-                  ? node->stamp
-                  : key.id * kNanosecondsPerSecond;
+    if (use_node_stamps && node->has_stamp) {
+      p.stamp = node->stamp;
+    } else {
+      // The id is the stamp in seconds; one beyond int64 nanoseconds
+      // (|id| > 9.2e9) has no stamp.
+      constexpr int64_t kMaxId =
+          std::numeric_limits<int64_t>::max() / kNanosecondsPerSecond;
+      if (key.id > kMaxId || key.id < -kMaxId) {
+        *error = std::string("the ") + NodeKindName(key.kind) + " node id " +
+                 std::to_string(key.id) +
+                 " is too large to be a stamp in seconds (|id| <= " +
+                 std::to_string(kMaxId) + ")";
+        return false;
+      }
+      p.stamp = key.id * kNanosecondsPerSecond;
+    }
     p.pose = key.kind == NodeKind::kPose2 ? LiftPose2(NodePose2(*node))
                                           : NodePose3(*node);
     trajectory->push_back(p);

@@ -9,6 +9,8 @@
 
 #include <zlib.h>
 
+#include <opencv2/core/persistence.hpp>
+
 #include "frontends/bow/database.h"
 #include "frontends/bow/vocabulary.h"
 #include "gtest/gtest.h"
@@ -400,7 +402,8 @@ TEST(VocabularyTest, BadDbow2YamlNamesTheProblem) {
       {replace("nodeId:3,", "nodeId:9,"), "out of range"},
       {replace("wordId:1, nodeId:2", "wordId:1, nodeId:3"), "does not match"},
       {"%YAML:1.0\n---\nfoo: 1\n", "no 'vocabulary'"},
-      {"%YAML:1.0\n---\nvocabulary: [1, 2\n", "cannot parse"},
+      {"%YAML:1.0\n---\nvocabulary: [1, 2\n",
+       ":3: 'vocabulary' must hold a block map"},
       // fuzz_visual's finding: OpenCV 4.6's parser never returns on it.
       {"%YAML:1.odes:\n      - { nodeId:1 }\n   \x90   - { nodeId:2 }\n",
        ":3: byte 0x90 is not ASCII text"},
@@ -412,7 +415,48 @@ TEST(VocabularyTest, BadDbow2YamlNamesTheProblem) {
       {replace("---\n", "--- x\n"), ":2: a line starting with '---'"},
       // And its third: "---" after content, over a map.
       {"%YAML:1.0\n   w: e\np     - { n:1,0\n---\nv:\n k: 2\n",
-       ":4: '---' after content"},
+       ":2: indented text 'w: e' before 'vocabulary:'"},
+      {"%YAML:1.0\np: 1\n---\nvocabulary:\n k: 2\n",
+       ":2: 'p: 1' where a DBoW2 vocabulary starts with 'vocabulary:'"},
+      {"%YAML:1.0\n---\n---\nvocabulary:\n", ":3: '---' after content"},
+      // Its fourth (CI, with OpenCV's parser): a flow map cut by a line
+      // holding '}' and a sequence item opening two maps.
+      {"%YAML:1.0\nvocabulary:\n   k: 2\n   nodes:\n"
+       "      - { nodeId:2, parentId:0, weight:1.,\n  }\n"
+       "      - { { wordId:1, nodeId:2 }\n",
+       ":5: an empty entry in a flow map"},
+      {"%YAML:1.0\nvocabulary:\n   k: 2\n   nodes:\n"
+       "      - { { wordId:1, nodeId:2 }\n",
+       ":5: a nested flow map"},
+      // The strict reader's own checks, each naming its line.
+      {replace("   L: 1\n", "   L: 1\n   foo: 3\n"),
+       ":6: unknown key 'foo' in the vocabulary map"},
+      {replace("   L: 1\n", "  L: 1\n"),
+       ":5: indented by 2 where the vocabulary's keys are indented by 3"},
+      {replace("k: 4", "k: four"), ":4: 'k' must be an integer, not 'four'"},
+      {replace("k: 4", "k: 99999999999999999999"),
+       ":4: 'k' must be an integer"},
+      {replace("k: 4", "k: 4000000000"), "k = 4000000000, L = 1 outside"},
+      {replace("weight:1.000000", "weight:.Inf"),
+       ":9: 'weight' must be a finite number, not '.Inf'"},
+      {replace("parentId:0, weight", "parent:0, weight"),
+       ":9: unknown key 'parent' in a node"},
+      {replace("wordId:2, nodeId:3 }", "wordId:2, nodeId:3 } x"),
+       ":20: text after the flow map's '}'"},
+      {replace("wordId:2, nodeId:3 }", "wordId:2, nodeId:3"),
+       ":20: a nested flow map"},
+      {replace("wordId:3, nodeId:4 }", "wordId:3, nodeId:4"),
+       ":21: a flow map not closed with '}'"},
+      {replace("   words:\n", "   words: 3\n"),
+       ":17: 'words' must hold a block sequence"},
+      {good.substr(0, good.find("   words:")) + "   words: []\n",
+       "0 words listed but the tree has 4 leaves"},
+      {"%YAML:1.0\n---\nvocabulary:\n   k: 4\n   L: 1\n",
+       "needs integers k, L and sequences nodes, words (missing: nodes)"},
+      {replace("vocabulary:\n", "vocabulary:\n\t k: 1\n"),
+       ":4: a tab in the indentation"},
+      {good + "...\nx: 1\n", ":23: text after the document end"},
+      {"%TAG ! x\n---\nvocabulary:\n", ":1: directive '%TAG ! x'"},
   };
   for (size_t i = 0; i < cases.size(); ++i) {
     const std::string path = dir + "/bad" + std::to_string(i) + ".yml";
@@ -423,6 +467,46 @@ TEST(VocabularyTest, BadDbow2YamlNamesTheProblem) {
     EXPECT_TRUE(testing::Contains(error, path)) << error;
     EXPECT_TRUE(testing::Contains(error, cases[i].expected)) << error;
     EXPECT_TRUE(voc.empty());
+  }
+}
+
+// What DBoW2's TemplatedVocabulary::save writes through cv::FileStorage
+// (OpenCV wraps the long node maps over two lines and prints weights with
+// 17 digits) reads back exactly.
+TEST(VocabularyTest, ReadsWhatOpenCvFileStorageWritesForDbow2) {
+  std::mt19937 rng(11);
+  std::vector<Descriptor> centres;
+  for (int i = 0; i < 4; ++i) centres.push_back(RandomDescriptor(&rng));
+  const std::vector<double> weights = {1.4426950408889634, 0.1, 1.0 / 3.0,
+                                       0.0};
+  cv::FileStorage fs("voc.yml", cv::FileStorage::WRITE |
+                                    cv::FileStorage::MEMORY |
+                                    cv::FileStorage::FORMAT_YAML);
+  fs << "vocabulary" << "{";
+  fs << "k" << 4 << "L" << 1 << "scoringType" << 0 << "weightingType" << 0;
+  fs << "nodes" << "[";
+  for (int i = 0; i < 4; ++i) {
+    fs << "{:" << "nodeId" << i + 1 << "parentId" << 0 << "weight"
+       << weights[i] << "descriptor" << DescriptorText(centres[i]) + " "
+       << "}";
+  }
+  fs << "]" << "words" << "[";
+  for (int i = 0; i < 4; ++i) {
+    fs << "{:" << "wordId" << i << "nodeId" << i + 1 << "}";
+  }
+  fs << "]" << "}";
+  const std::string text = fs.releaseAndGetString();
+  ASSERT_TRUE(testing::Contains(text, "weight:")) << text;
+  const std::string path = testing::TempDir() + "/opencv.yml";
+  testing::WriteText(path, text);
+  Vocabulary voc;
+  std::string error;
+  ASSERT_TRUE(voc.Load(path, &error)) << error << "\n" << text;
+  ASSERT_EQ(voc.size(), 4u);
+  for (int i = 0; i < 4; ++i) {
+    EXPECT_EQ(voc.Quantize(centres[i].data(), 0, nullptr),
+              static_cast<WordId>(i));
+    EXPECT_EQ(voc.WordWeight(i), weights[i]);  // Bit for bit.
   }
 }
 

@@ -370,6 +370,21 @@ TEST(G2oTest, TrajectoryFromGraphUsesIds) {
   EXPECT_FALSE(TrajectoryFromGraph(g, false, &t, &error));
 }
 
+// fuzz_trajectory (CI): a vertex id of 44444444444444 overflowed int64 when
+// made a stamp in nanoseconds. It is an error naming the id.
+TEST(G2oTest, TrajectoryFromGraphRejectsAnIdBeyondStamps) {
+  Graph g;
+  ASSERT_NE(g.AddNode(Pose2Key(44444444444444), {0.0, 4.0, 0.0}), nullptr);
+  Trajectory t;
+  std::string error;
+  EXPECT_FALSE(TrajectoryFromGraph(g, false, &t, &error));
+  EXPECT_NE(error.find("44444444444444"), std::string::npos) << error;
+  Graph ok;
+  ASSERT_NE(ok.AddNode(Pose2Key(9223372036), {0.0, 4.0, 0.0}), nullptr);
+  ASSERT_TRUE(TrajectoryFromGraph(ok, false, &t, &error)) << error;
+  EXPECT_EQ(t[0].stamp, 9223372036 * kNanosecondsPerSecond);
+}
+
 // ------------------------------------------------------------------ detection
 
 TEST(DetectTest, UnknownContentIsAnError) {

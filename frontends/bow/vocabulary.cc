@@ -13,10 +13,10 @@
 #include <zlib.h>
 
 #include <opencv2/core/hal/hal.hpp>
-#include <opencv2/core/persistence.hpp>
 
 #include "datasets/atomic_file.h"
 #include "datasets/text_util.h"
+#include "frontends/bow/dbow2_yaml.h"
 
 namespace slam::bow {
 namespace {
@@ -611,180 +611,99 @@ bool Vocabulary::ParseBinary(std::string_view bytes, const std::string& where,
 }
 
 bool Vocabulary::LoadDbow2Yaml(const std::string& path, std::string* error) {
-  std::string yaml;
-  if (!ReadYamlText(path, &yaml, error)) return false;
-  // A DBoW2 vocabulary is ASCII text. OpenCV 4.6's YAML parser loops
-  // forever on some other bytes where it expects indentation (found by
-  // fuzz_visual: a 0x90 byte before a sequence item), so anything but
-  // printable ASCII, tab and line ends is rejected before it sees the text.
-  // It also never returns on two lines that start with "---" and go on
-  // with text, the second a key over an indented map (found by fuzz_visual:
-  // "----a" then "----b:" and "  k: 2"); a DBoW2 vocabulary's document
-  // marker is "---" alone, so a line starting with "---" must end there;
-  // and it comes before any content (a "---" after content, over a map,
-  // hangs it too: "p  - { n:1,0", "---", "v:", " k: 2").
-  size_t line = 1;
-  size_t line_start = 0;
-  bool content_seen = false;
-  for (size_t i = 0; i <= yaml.size(); ++i) {
-    const auto b = i < yaml.size() ? static_cast<unsigned char>(yaml[i]) : '\n';
-    if (b == '\n') {
-      const std::string_view text =
-          std::string_view(yaml).substr(line_start, i - line_start);
-      if (text.substr(0, 3) == "---") {
-        if (text.find_first_not_of(" \t\r", 3) != std::string_view::npos) {
-          *error = path + ":" + std::to_string(line) +
-                   ": a line starting with '---' goes on with text (a DBoW2 "
-                   "YAML vocabulary's document marker is '---' alone)";
-          return false;
-        }
-        if (content_seen) {
-          *error = path + ":" + std::to_string(line) +
-                   ": '---' after content (a DBoW2 YAML vocabulary is one "
-                   "document, its marker before the content)";
-          return false;
-        }
-      } else {
-        const size_t first = text.find_first_not_of(" \t\r");
-        if (first != std::string_view::npos && text[first] != '%' &&
-            text[first] != '#') {
-          content_seen = true;
-        }
+  Dbow2Yaml yaml;
+  {
+    std::string text;
+    if (!ReadYamlText(path, &text, error)) return false;
+    if (!ParseDbow2Yaml(text, path, &yaml, error)) return false;
+  }
+  if (yaml.scoring_type != 0 || yaml.weighting_type != 0) {
+    *error = path + ": scoringType " + std::to_string(yaml.scoring_type) +
+             ", weightingType " + std::to_string(yaml.weighting_type) +
+             " (only L1 scoring, 0, with TF-IDF weights, 0, is supported)";
+    return false;
+  }
+  // k and L as ints only once they are known to be in CheckShape's ranges.
+  const int64_t k64 = std::clamp<int64_t>(yaml.k, -1, kMaxK + 1);
+  const int64_t levels64 = std::clamp<int64_t>(yaml.levels, -1, kMaxLevels + 1);
+  const int k = static_cast<int>(k64);
+  const int levels = static_cast<int>(levels64);
+  const uint64_t num_nodes = static_cast<uint64_t>(yaml.nodes.size()) + 1;
+  if (k64 != yaml.k || levels64 != yaml.levels) {
+    *error = path + ": k = " + std::to_string(yaml.k) + ", L = " +
+             std::to_string(yaml.levels) + " outside [2, " +
+             std::to_string(kMaxK) + "] and [1, " + std::to_string(kMaxLevels) +
+             "] (branching factor k, levels L)";
+    return false;
+  }
+  if (!CheckShape(k, levels, num_nodes, path, error)) return false;
+  std::vector<Node> tree(num_nodes);
+  std::vector<bool> seen(num_nodes, false);
+  for (const Dbow2YamlNode& n : yaml.nodes) {
+    const std::string item = path + ":" + std::to_string(n.line);
+    if (n.node_id < 1 || static_cast<uint64_t>(n.node_id) >= num_nodes ||
+        seen[n.node_id]) {
+      *error = item + ": nodeId " + std::to_string(n.node_id) +
+               " out of range or repeated (" + std::to_string(num_nodes - 1) +
+               " nodes listed)";
+      return false;
+    }
+    if (n.parent_id < 0 || n.parent_id >= n.node_id) {
+      *error = item + ": parentId " + std::to_string(n.parent_id) +
+               " is not an earlier node";
+      return false;
+    }
+    seen[n.node_id] = true;
+    Node& node = tree[n.node_id];
+    node.parent = static_cast<NodeId>(n.parent_id);
+    node.weight = n.weight;
+    std::istringstream values(n.descriptor);
+    for (int b = 0; b < kDescriptorBytes; ++b) {
+      int value = -1;
+      if (!(values >> value) || value < 0 || value > 255) {
+        *error = item + ": descriptor must be 32 byte values (0-255)";
+        return false;
       }
-      ++line;
-      line_start = i + 1;
-    } else if ((b < 0x20 && b != '\t' && b != '\r') || b > 0x7e) {
-      char hex[8];
-      std::snprintf(hex, sizeof(hex), "0x%02x", b);
-      *error = path + ":" + std::to_string(line) + ": byte " + hex +
-               " is not ASCII text (a DBoW2 YAML vocabulary is ASCII)";
+      node.descriptor[b] = static_cast<uint8_t>(value);
+    }
+    std::string extra;
+    if (values >> extra) {
+      *error = item + ": descriptor has more than 32 values (not ORB)";
       return false;
     }
   }
-  try {
-    cv::FileStorage fs(yaml, cv::FileStorage::READ | cv::FileStorage::MEMORY |
-                                 cv::FileStorage::FORMAT_YAML);
-    yaml = std::string();  // Parsed: the text is not needed any more.
-    if (!fs.isOpened()) {
-      *error = path + ": cannot open as an OpenCV YAML file";
-      return false;
-    }
-    const cv::FileNode voc = fs["vocabulary"];
-    if (voc.empty() || !voc.isMap()) {
-      *error = path + ": no 'vocabulary' map (not a DBoW2 vocabulary)";
-      return false;
-    }
-    const cv::FileNode nodes = voc["nodes"];
-    const cv::FileNode words = voc["words"];
-    if (!voc["k"].isInt() || !voc["L"].isInt() || !nodes.isSeq() ||
-        !words.isSeq()) {
-      *error = path +
-               ": DBoW2 vocabulary needs integers k, L and sequences "
-               "nodes, words";
-      return false;
-    }
-    const int k = static_cast<int>(voc["k"]);
-    const int levels = static_cast<int>(voc["L"]);
-    const int scoring =
-        voc["scoringType"].empty() ? 0 : static_cast<int>(voc["scoringType"]);
-    const int weighting = voc["weightingType"].empty()
-                              ? 0
-                              : static_cast<int>(voc["weightingType"]);
-    if (scoring != 0 || weighting != 0) {
-      *error = path + ": scoringType " + std::to_string(scoring) +
-               ", weightingType " + std::to_string(weighting) +
-               " (only L1 scoring, 0, with TF-IDF weights, 0, is supported)";
-      return false;
-    }
-    const uint64_t num_nodes = static_cast<uint64_t>(nodes.size()) + 1;
-    if (!CheckShape(k, levels, num_nodes, path, error)) return false;
-    std::vector<Node> tree(num_nodes);
-    std::vector<bool> seen(num_nodes, false);
-    size_t index = 0;
-    for (auto it = nodes.begin(); it != nodes.end(); ++it, ++index) {
-      const cv::FileNode n = *it;
-      const std::string item = path + ": nodes[" + std::to_string(index) + "]";
-      if (!n["nodeId"].isInt() || !n["parentId"].isInt() ||
-          !(n["weight"].isReal() || n["weight"].isInt()) ||
-          !n["descriptor"].isString()) {
-        *error = item + ": needs nodeId, parentId, weight, descriptor";
-        return false;
-      }
-      const int id = static_cast<int>(n["nodeId"]);
-      const int parent = static_cast<int>(n["parentId"]);
-      if (id < 1 || static_cast<uint64_t>(id) >= num_nodes || seen[id]) {
-        *error = item + ": nodeId " + std::to_string(id) +
-                 " out of range or repeated";
-        return false;
-      }
-      if (parent < 0 || parent >= id) {
-        *error = item + ": parentId " + std::to_string(parent) +
-                 " is not an earlier node";
-        return false;
-      }
-      seen[id] = true;
-      Node& node = tree[id];
-      node.parent = static_cast<NodeId>(parent);
-      node.weight = static_cast<double>(n["weight"]);
-      std::istringstream values(static_cast<std::string>(n["descriptor"]));
-      for (int b = 0; b < kDescriptorBytes; ++b) {
-        int value = -1;
-        if (!(values >> value) || value < 0 || value > 255) {
-          *error = item + ": descriptor must be 32 byte values (0-255)";
-          return false;
-        }
-        node.descriptor[b] = static_cast<uint8_t>(value);
-      }
-      std::string extra;
-      if (values >> extra) {
-        *error = item + ": descriptor has more than 32 values (not ORB)";
-        return false;
-      }
-    }
-    // Children in id order, as DBoW2 keeps them.
-    for (size_t i = 1; i < num_nodes; ++i) {
-      tree[tree[i].parent].children.push_back(static_cast<NodeId>(i));
-    }
-    k_ = k;
-    levels_ = levels;
-    nodes_ = std::move(tree);
-    if (!Finish(path, error)) {
+  // Children in id order, as DBoW2 keeps them.
+  for (size_t i = 1; i < num_nodes; ++i) {
+    tree[tree[i].parent].children.push_back(static_cast<NodeId>(i));
+  }
+  k_ = k;
+  levels_ = levels;
+  nodes_ = std::move(tree);
+  if (!Finish(path, error)) {
+    nodes_.clear();
+    words_.clear();
+    return false;
+  }
+  // DBoW2 numbers the words as the leaves in node order, like Finish.
+  if (yaml.words.size() != words_.size()) {
+    *error = path + ": " + std::to_string(yaml.words.size()) +
+             " words listed but the tree has " +
+             std::to_string(words_.size()) + " leaves";
+    nodes_.clear();
+    words_.clear();
+    return false;
+  }
+  for (const Dbow2YamlWord& w : yaml.words) {
+    if (w.word_id < 0 || static_cast<uint64_t>(w.word_id) >= words_.size() ||
+        static_cast<int64_t>(words_[w.word_id]) != w.node_id) {
+      *error = path + ":" + std::to_string(w.line) + ": word " +
+               std::to_string(w.word_id) + " -> node " +
+               std::to_string(w.node_id) +
+               " does not match the leaves in node order";
       nodes_.clear();
       words_.clear();
       return false;
     }
-    // DBoW2 numbers the words as the leaves in node order, like Finish.
-    if (words.size() != words_.size()) {
-      *error = path + ": " + std::to_string(words.size()) +
-               " words listed but the tree has " +
-               std::to_string(words_.size()) + " leaves";
-      nodes_.clear();
-      words_.clear();
-      return false;
-    }
-    for (auto it = words.begin(); it != words.end(); ++it) {
-      const int word = static_cast<int>((*it)["wordId"]);
-      const int node = static_cast<int>((*it)["nodeId"]);
-      if (word < 0 || static_cast<size_t>(word) >= words_.size() ||
-          words_[word] != static_cast<NodeId>(node)) {
-        *error = path + ": word " + std::to_string(word) + " -> node " +
-                 std::to_string(node) +
-                 " does not match the leaves in node order";
-        nodes_.clear();
-        words_.clear();
-        return false;
-      }
-    }
-  } catch (const cv::Exception& e) {
-    *error = path + ": cannot parse as OpenCV YAML: " + e.msg;
-    nodes_.clear();
-    words_.clear();
-    return false;
-  } catch (const std::exception& e) {  // OpenCV's parser also throws others.
-    *error = path + ": cannot parse as OpenCV YAML: " + e.what();
-    nodes_.clear();
-    words_.clear();
-    return false;
   }
   return true;
 }
