@@ -1,10 +1,10 @@
 #include "frontends/bow/dbow2_yaml.h"
 
-#include <charconv>
-#include <cmath>
 #include <cstdio>
 #include <string>
 #include <utility>
+
+#include "datasets/text_util.h"
 
 namespace slam::bow {
 namespace {
@@ -21,23 +21,8 @@ std::string_view Trim(std::string_view s) {
   return s.substr(first, last - first + 1);
 }
 
-// At most 40 characters of `s`, for messages.
-std::string Quote(std::string_view s) {
-  return "'" + std::string(s.substr(0, 40)) + (s.size() > 40 ? "...'" : "'");
-}
-
-bool ParseInt(std::string_view s, int64_t* value) {
-  if (s.empty()) return false;
-  const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), *value);
-  return ec == std::errc() && end == s.data() + s.size();
-}
-
-bool ParseReal(std::string_view s, double* value) {
-  if (s.empty() || s.size() > 64) return false;
-  const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), *value);
-  return ec == std::errc() && end == s.data() + s.size() &&
-         std::isfinite(*value);
-}
+// `s` quoted for a message: at most 40 printable characters.
+std::string Quote(std::string_view s) { return "'" + text::Printable(s) + "'"; }
 
 // The position of the first '}' outside double quotes in `s`, or npos;
 // *quoted says whether `s` starts inside quotes and, on npos, whether it
@@ -72,6 +57,17 @@ class Parser {
   bool Fail(size_t line, const std::string& problem) {
     *error_ = path_ + ":" + std::to_string(line) + ": " + problem;
     return false;
+  }
+  // Reads the integer `value` of `key` into *target, once (*has).
+  bool Integer(size_t line, std::string_view key, std::string_view value,
+               bool* has, int64_t* target) {
+    if (*has) return Fail(line, "a second '" + std::string(key) + "'");
+    *has = true;
+    if (!text::ParseInt64(value, target)) {
+      return Fail(line, "'" + std::string(key) + "' must be an integer, not " +
+                            Quote(value));
+    }
+    return true;
   }
   bool CheckBytes();
   bool TopLevelLine(size_t line, std::string_view body);
@@ -184,13 +180,7 @@ bool Parser::KeyLine(size_t line, size_t indent, std::string_view body) {
   const std::string_view value = Trim(body.substr(colon + 1));
   sequence_ = Sequence::kNone;
   auto integer = [&](bool* has, int64_t* target) {
-    if (*has) return Fail(line, "a second '" + std::string(key) + "'");
-    *has = true;
-    if (!ParseInt(value, target)) {
-      return Fail(line, "'" + std::string(key) + "' must be an integer, not " +
-                            Quote(value));
-    }
-    return true;
+    return Integer(line, key, value, has, target);
   };
   auto sequence = [&](bool* has, Sequence kind) {
     if (*has) return Fail(line, "a second '" + std::string(key) + "'");
@@ -254,13 +244,7 @@ bool Parser::Item(size_t line, std::string_view item) {
     const std::string_view key = Trim(entry.substr(0, colon));
     const std::string_view value = Trim(entry.substr(colon + 1));
     auto integer = [&](bool* has, int64_t* target) {
-      if (*has) return Fail(line, "a second '" + std::string(key) + "'");
-      *has = true;
-      if (!ParseInt(value, target)) {
-        return Fail(line, "'" + std::string(key) +
-                              "' must be an integer, not " + Quote(value));
-      }
-      return true;
+      return Integer(line, key, value, has, target);
     };
     bool ok = true;
     if (key == "nodeId") {
@@ -270,7 +254,7 @@ bool Parser::Item(size_t line, std::string_view item) {
     } else if (is_node && key == "weight") {
       if (has_weight) return Fail(line, "a second 'weight'");
       has_weight = true;
-      if (!ParseReal(value, &node.weight)) {
+      if (!text::ParseDouble(value, &node.weight)) {
         return Fail(line,
                     "'weight' must be a finite number, not " + Quote(value));
       }
