@@ -7,6 +7,9 @@ packages=(
   build-essential cmake
   libceres-dev libeigen3-dev libsuitesparse-dev
   libspectra-dev  # Sparse eigenvalues (pose-graph certificate).
+  # The BLAS under CHOLMOD's supernodal factorizations (3D pose graphs, the
+  # certificate); single-threaded, so results do not depend on the cores.
+  libopenblas0-serial
   libopencv-dev libgflags-dev libgoogle-glog-dev libyaml-cpp-dev
   libgtest-dev libgmock-dev
   python3 python3-yaml python3-numpy python3-opencv zlib1g-dev libbz2-dev
