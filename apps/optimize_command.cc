@@ -337,6 +337,7 @@ int RunOptimizeCommand(const std::vector<std::string>& args) {
         .Add("solver", SolverKindName(config.optimizer.solver))
         .Add("linear_solver", summary.linear_solver)
         .Add("sparse_library", summary.sparse_library)
+        .Add("factor_flops_per_entry", summary.factor_flops_per_entry)
         .Add("ordering", summary.ordering)
         .Add("repaired_information", read_report.repaired_information)
         .Add("load_seconds", load_seconds)

@@ -634,13 +634,22 @@ OptimizerSummary Optimize(Graph* graph, const OptimizerOptions& options,
   const bool sparse_cholesky =
       solver_options.linear_solver_type == ceres::SPARSE_NORMAL_CHOLESKY;
   // 1. A cheap AMD analysis of the node graph estimates the factor's
-  //    density, which picks the sparse library ("auto").
-  // 2. Dense factors (CHOLMOD supernodal) get the least-fill ordering of
-  //    AMD, METIS and NESDIS; sparse ones keep Ceres' own AMD ordering.
-  // Above ~150 flops per factor entry CHOLMOD's supernodal kernels win
-  // (measured on the benchmark graphs: tori and spheres above, 2D graphs
-  // and parking-garage below).
-  constexpr double kSupernodalFlopsPerEntry = 150.0;
+  //    density (flops per factor entry), which picks the sparse library
+  //    ("auto"): from 40 flops per entry CHOLMOD, whose own rule
+  //    (cholmod_common::supernodal_switch, default 40) then factorizes
+  //    supernodally on the system BLAS; below, both libraries factorize
+  //    simplicially and Eigen's LDL^T (as before) is kept (manhattan, 35
+  //    flops per entry: solve 0.030 s either way). With OpenBLAS, CHOLMOD
+  //    takes about a quarter off the solve from 50 flops per entry
+  //    (parking-garage 54: 0.126 -> 0.092 s, city10000 83: 0.19-0.22 ->
+  //    0.15 s, smallGrid3D 98); on Debian's generic ATLAS the break-even
+  //    was near 150 (scripts/install_deps.sh installs OpenBLAS).
+  // 2. Factors denser still (over 150 flops per entry: 3D spheres and tori)
+  //    get the least-fill ordering of AMD, METIS and NESDIS, whose search
+  //    pays only where the factorizations dominate (METIS: 0.06 s on
+  //    city10000); the others keep Ceres' own AMD ordering.
+  constexpr double kSupernodalFlopsPerEntry = 40.0;
+  constexpr double kOrderingSearchFlopsPerEntry = 150.0;
   if (summary.ordering.empty()) summary.ordering = "ceres";
   summary.sparse_library = options.sparse_library;
   if (sparse_cholesky && graph->NumNodes() > 1) {
@@ -657,10 +666,15 @@ OptimizerSummary Optimize(Graph* graph, const OptimizerOptions& options,
       summary.sparse_library =
           estimate.flops_per_entry > kSupernodalFlopsPerEntry ? "suite_sparse"
                                                               : "eigen_sparse";
+      summary.factor_flops_per_entry = estimate.flops_per_entry;
     }
-    const bool dense = summary.sparse_library == "suite_sparse";
+    // Forced to CHOLMOD (no estimate made): the ordering search as well.
+    const bool search_orderings =
+        summary.sparse_library == "suite_sparse" &&
+        (options.sparse_library != "auto" ||
+         estimate.flops_per_entry > kOrderingSearchFlopsPerEntry);
     const std::string wanted = options.ordering == "auto"
-                                   ? (dense ? "auto" : "ceres")
+                                   ? (search_orderings ? "auto" : "ceres")
                                    : options.ordering;
     // 3. A factor beyond the memory or flops allowed: conjugate gradients
     //    on the normal equations (Ceres' CGNR, block-Jacobi preconditioner),

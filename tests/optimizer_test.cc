@@ -5,6 +5,7 @@
 // convention) is twice Ceres' cost; one progress line per iteration.
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <map>
 #include <random>
 #include <sstream>
@@ -303,6 +304,79 @@ TEST(OptimizerTest, FactorBeyondTheBudgetFallsBackToConjugateGradients) {
     ASSERT_TRUE(r.converged) << r.termination;
     EXPECT_EQ(r.linear_solver_reason.find("conjugate"), std::string::npos);
     EXPECT_NEAR(r.final_chi2, d.final_chi2, 1e-9 * d.final_chi2) << dim;
+  }
+}
+
+// A 3D graph of n poses with a between factor from every pose to every
+// later one: a dense factor of 6n unknowns (about 4n flops per entry).
+void BuildComplete3(int n, Graph* graph) {
+  Rng rng(3);
+  std::vector<Pose3> gt;
+  for (int k = 0; k < n; ++k) {
+    gt.push_back(Pose3(Eigen::Vector3d(k, 0.1 * k * k, 0.0),
+                       QuaternionExp<double>(0.1 * rng.Normal3())));
+    graph->AddNode(Pose3Key(k),
+                   Pose3Value(gt.back() * Noise3(&rng, 0.1, 0.02)));
+  }
+  const Matrix6d info = Matrix6d::Identity() * 100.0;
+  for (int i = 0; i < n; ++i) {
+    for (int j = i + 1; j < n; ++j) {
+      Factor f;
+      std::string error;
+      ASSERT_TRUE(
+          MakeBetweenSE3(Pose3Key(i), Pose3Key(j),
+                         gt[i].Inverse() * gt[j] * Noise3(&rng, 0.01, 0.002),
+                         info, &f, &error))
+          << error;
+      ASSERT_GE(graph->AddFactor(std::move(f)), 0);
+    }
+  }
+}
+
+// "auto" picks the sparse library by the ordering analysis' flops per factor
+// entry: Eigen's simplicial LDL^T below 40 (CHOLMOD's own supernodal
+// switch), CHOLMOD from there with Ceres' ordering, and above 150 CHOLMOD
+// with the least-fill ordering of AMD, METIS and NESDIS. Every choice
+// reaches the optimum the other library reaches.
+TEST(OptimizerTest, AutoSparseLibraryFollowsTheFactorDensity) {
+  struct Case {
+    const char* name;
+    std::function<void(Graph*)> build;
+    const char* library;
+    bool searched;  // Ordering other than Ceres' own.
+  };
+  const std::vector<Case> cases = {
+      {"2D lawn-mower", [](Graph* g) { BuildGraph2(Graph2Spec(), g); },
+       "eigen_sparse", false},
+      {"complete 3D, 12 poses", [](Graph* g) { BuildComplete3(12, g); },
+       "suite_sparse", false},
+      {"complete 3D, 60 poses", [](Graph* g) { BuildComplete3(60, g); },
+       "suite_sparse", true},
+  };
+  for (const Case& c : cases) {
+    Graph graph, other;
+    c.build(&graph);
+    c.build(&other);
+    OptimizerOptions options;
+    options.verbose = false;
+    const OptimizerSummary s = Optimize(&graph, options, nullptr);
+    ASSERT_TRUE(s.converged) << c.name << ": " << s.termination;
+    EXPECT_EQ(s.sparse_library, c.library) << c.name;
+    EXPECT_EQ(s.ordering != "ceres", c.searched)
+        << c.name << ": " << s.ordering;
+    if (std::string(c.library) == "eigen_sparse") {
+      EXPECT_LT(s.factor_flops_per_entry, 40.0) << c.name;
+    } else {
+      EXPECT_GE(s.factor_flops_per_entry, 40.0) << c.name;
+      EXPECT_EQ(s.factor_flops_per_entry > 150.0, c.searched) << c.name;
+    }
+    options.sparse_library = std::string(c.library) == "eigen_sparse"
+                                 ? "suite_sparse"
+                                 : "eigen_sparse";
+    const OptimizerSummary o = Optimize(&other, options, nullptr);
+    ASSERT_TRUE(o.converged) << c.name << ": " << o.termination;
+    EXPECT_EQ(o.sparse_library, options.sparse_library);
+    EXPECT_NEAR(o.final_chi2, s.final_chi2, 1e-7 * s.final_chi2) << c.name;
   }
 }
 
