@@ -17,6 +17,7 @@
 #include <Eigen/SparseCore>
 
 #include "core/lie.h"
+#include "core/openmp_scope.h"
 #include "core/ordering.h"
 
 namespace slam {
@@ -228,6 +229,9 @@ class NormalEquationsSolver {
       eigen_.factorize(h);
       return eigen_.info() == Eigen::Success;
     } else {
+      // One OpenMP thread for CHOLMOD's supernodal factorization (see
+      // core/openmp_scope.h).
+      const SerialOpenMpScope serial_openmp;
       if (!analyzed_) cholmod_.analyzePattern(h);
       analyzed_ = true;
       cholmod_.factorize(h);

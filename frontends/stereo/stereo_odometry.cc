@@ -16,6 +16,7 @@
 
 #include "ceres/ceres.h"
 #include "core/lie.h"
+#include "core/openmp_scope.h"
 #include "factors/landmark_factors.h"
 #include "factors/pose_factors.h"
 
@@ -1094,7 +1095,12 @@ void StereoOdometry::Finish() {
       SolverOptions(config_.final_ba_iterations, ceres::SPARSE_SCHUR);
   options.linear_solver_ordering = ordering;
   ceres::Solver::Summary summary;
-  ceres::Solve(options, &problem, &summary);
+  {
+    // CHOLMOD (the sparse Schur complement) on one OpenMP thread: see
+    // core/openmp_scope.h.
+    const SerialOpenMpScope serial_openmp;
+    ceres::Solve(options, &problem, &summary);
+  }
   stats_.global_ba_initial_chi2 = CeresCostToChi2(summary.initial_cost);
   stats_.global_ba_final_chi2 = CeresCostToChi2(summary.final_cost);
   std::vector<int64_t> all;
