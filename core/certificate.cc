@@ -433,38 +433,30 @@ std::vector<Eigen::MatrixXd> LambdaBlocks(const ReducedBlocks& b,
 // definite (then Factorize returns false). The matrix comes in a
 // fill-reducing order already (assembled node by node in the order of
 // ReducedBlocks::position): no ordering here; only its lower triangle is
-// read. 3D graphs: CHOLMOD's supernodal factorization when its symbolic
-// analysis finds dense fronts (CertificateOptions::
-// supernodal_flops_per_entry; sphere2500's certificate matrix 0.09 s
-// against 0.24 s with the simplicial one), else and on 2D graphs Eigen's
-// simplicial one (parking-garage's Newton Hessian, 52 flops per entry:
-// 2 x 34-48 ms against 2 x 48-75 ms supernodal, 4 runs each on a loaded
-// machine; city10000's whole certification 0.96 s against 1.14 s). The
-// symbolic analysis is done once per pattern (Analyze).
+// read. CHOLMOD's symbolic analysis counts the factor's flops per entry;
+// from CertificateOptions::supernodal_flops_per_entry its supernodal
+// factorization (dense fronts: sphere2500's certificate matrix 0.09 s
+// against 0.24 s with the simplicial one, on ATLAS), else Eigen's
+// simplicial one (parking-garage's Newton Hessian, 52 flops per entry, and
+// the sparse 2D graphs, whose CHOLMOD analysis costs 1-2 ms). The symbolic
+// analysis is done once per pattern (Analyze).
 class PositiveDefiniteFactor {
  public:
-  PositiveDefiniteFactor(int d, double supernodal_flops_per_entry)
-      : try_supernodal_(d == 3),
-        flops_per_entry_(supernodal_flops_per_entry) {
+  explicit PositiveDefiniteFactor(double supernodal_flops_per_entry)
+      : flops_per_entry_(supernodal_flops_per_entry) {
     supernodal_llt_.cholmod().print = 0;  // Not positive definite: answer.
     // The matrices come in a fill-reducing order already (NodeOrder).
     supernodal_llt_.cholmod().nmethods = 1;
     supernodal_llt_.cholmod().method[0].ordering = CHOLMOD_NATURAL;
   }
   void Analyze(const SpMat& a) {
-    supernodal_ = false;
-    if (try_supernodal_) {
-      supernodal_llt_.analyzePattern(a);
-      // cholmod_analyze's counts for the order used: flops and nnz(L).
-      const cholmod_common& c = supernodal_llt_.cholmod();
-      supernodal_ = c.lnz > 0 && c.fl >= flops_per_entry_ * c.lnz;
-      flops_ = c.fl;
-      entries_ = c.lnz;
-    }
-    if (!supernodal_) {
-      simplicial_llt_.analyzePattern(a);
-      flops_ = entries_ = 0.0;  // Counted from the first factor.
-    }
+    supernodal_llt_.analyzePattern(a);
+    // cholmod_analyze's counts for the order used: flops and nnz(L).
+    const cholmod_common& c = supernodal_llt_.cholmod();
+    supernodal_ = c.lnz > 0 && c.fl >= flops_per_entry_ * c.lnz;
+    flops_ = c.fl;
+    entries_ = c.lnz;
+    if (!supernodal_) simplicial_llt_.analyzePattern(a);
   }
   bool Factorize(const SpMat& a) {
     if (supernodal_) {
@@ -472,21 +464,10 @@ class PositiveDefiniteFactor {
       return supernodal_llt_.info() == Eigen::Success;
     }
     simplicial_llt_.factorize(a);
-    if (simplicial_llt_.info() != Eigen::Success) return false;
-    if (entries_ == 0.0) {
-      // CHOLMOD's count (cholmod_analyze): sum over the columns of L of
-      // the squared entry count; the pattern is fixed after Analyze.
-      const SpMat& l = simplicial_llt_.matrixL().nestedExpression();
-      for (Eigen::Index j = 0; j < l.outerSize(); ++j) {
-        const double c = l.outerIndexPtr()[j + 1] - l.outerIndexPtr()[j];
-        flops_ += c * c;
-        entries_ += c;
-      }
-    }
-    return true;
+    return simplicial_llt_.info() == Eigen::Success;
   }
-  // Of the last successful factorization's pattern: its flop count and the
-  // entries of L (a solve with the factor costs 4 flops per entry).
+  // Of the analysed pattern: its flop count and the entries of L (a solve
+  // with the factor costs 4 flops per entry).
   double Flops() const { return flops_; }
   double Entries() const { return entries_; }
   Eigen::VectorXd Solve(const Eigen::VectorXd& rhs) const {
@@ -495,7 +476,6 @@ class PositiveDefiniteFactor {
   }
 
  private:
-  bool try_supernodal_;
   double flops_per_entry_;
   bool supernodal_ = false;
   double flops_ = 0.0, entries_ = 0.0;
@@ -515,7 +495,7 @@ class ShiftedCertificateOp {
                        std::map<std::string, double>* phases)
       : b_(b),
         lambda_(lambda),
-        llt_(b.d, supernodal_flops_per_entry),
+        llt_(supernodal_flops_per_entry),
         phases_(phases),
         perm_(CertificatePermutation(b)) {}
   Eigen::Index rows() const { return b_.d * b_.n; }
@@ -1225,7 +1205,7 @@ int NewtonRefineSplit(const IsotropicProblem& p, const SpMat& m,
   // found once (the Hessian's pattern does not change); else LDL^T. The
   // factor of the first Hessian preconditions CG on the later ones; a new
   // one is made only when CG meets negative curvature or does not converge.
-  PositiveDefiniteFactor llt(d, supernodal_flops_per_entry);
+  PositiveDefiniteFactor llt(supernodal_flops_per_entry);
   Eigen::SimplicialLDLT<SpMat> ldlt;
   enum { kNone, kLlt, kLdlt } factor = kNone;
   bool analyzed = false;

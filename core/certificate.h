@@ -89,15 +89,17 @@ struct CertificateOptions {
   int max_refine_iterations = 100;
   // Staircase: ranks d+1 .. d + max_rank_increase.
   int max_rank_increase = 3;
-  // 3D graphs: CHOLMOD's supernodal Cholesky for a matrix whose symbolic
-  // analysis counts at least this many flops per factor entry (dense
-  // fronts: sphere2500's Newton Hessian 259, torus3D 423), Eigen's
-  // simplicial one below (parking-garage 52, whose supernodes are too small
-  // for the dense kernels to pay). 2D graphs always simplicial (8-81 on
-  // the benchmark graphs; city10000 measured faster so). CHOLMOD's own
-  // switch is 40; 120 is a guess from these graphs. Tests set 0 or a huge
-  // value to take either path.
-  double supernodal_flops_per_entry = 120.0;
+  // CHOLMOD's supernodal Cholesky for a matrix whose symbolic analysis
+  // counts at least this many flops per factor entry (dense fronts:
+  // sphere2500's Newton Hessian 234, torus3D 325, city10000 81), Eigen's
+  // simplicial one below (parking-garage 52, manhattan 35, intel 17). With
+  // OpenBLAS and CHOLMOD on one OpenMP thread, city10000's Newton
+  // Hessian factorizes in 0.024-0.034 s supernodal against 0.042-0.046 s
+  // simplicial, parking-garage's in 0.013-0.027 s against 0.009 s: 64 is a
+  // guess between those two graphs (CHOLMOD's own switch is 40). It moves
+  // the time only, never the verdict. Tests set 0 or a huge value to take
+  // either path.
+  double supernodal_flops_per_entry = 64.0;
   // The elimination order of the pose graph that every factorization of
   // the certificate shares: kAuto takes AMD's, or METIS's nested
   // dissection where it counts fewer flops (tried only on 3D graphs whose
