@@ -39,19 +39,18 @@ struct OptimizerOptions {
   // "dense_qr", "dense_normal_cholesky", "sparse_schur", "dense_schur",
   // "iterative_schur", "cgnr".
   std::string linear_solver = "auto";
-  // Elimination order for the sparse Cholesky solvers: "auto" (for the
-  // densest factors, over 150 flops per entry, CHOLMOD picks the least fill
-  // of AMD, METIS and NESDIS on the node graph, see core/ordering.h; the
-  // others keep Ceres' own AMD),
+  // Elimination order for the sparse Cholesky solvers: "auto" (for dense
+  // factors, over 150 flops per entry, CHOLMOD picks the least fill of AMD,
+  // METIS and NESDIS on the node graph, see core/ordering.h; sparse ones
+  // keep Ceres' own AMD),
   // "amd", "metis", "nesdis", or "ceres" (Ceres' own).
   std::string ordering = "auto";
   // Sparse linear algebra behind the sparse solvers: "auto", "suite_sparse"
   // (CHOLMOD, supernodal on the system BLAS), "eigen_sparse" or "cx_sparse".
   // "auto" estimates the factor's density from the ordering analysis:
-  // factors of 40 flops per entry or more (CHOLMOD's own supernodal switch;
-  // 3D graphs, dense 2D ones such as city10000) go to CHOLMOD, where the
-  // supernodal BLAS kernels pay; sparser ones to Eigen's simplicial LDLT
-  // (both factorize simplicially there; Eigen's is as fast).
+  // factors of over 150 flops per entry (3D spheres and tori) go to
+  // CHOLMOD, where the supernodal BLAS kernels pay; sparser ones to Eigen's
+  // simplicial LDLT, which does not depend on the BLAS (see Optimize).
   std::string sparse_library = "auto";
   // Sparse Cholesky chosen by "auto" whose factor would need more than
   // max_factor_bytes (0: half the physical memory) or cost more than

@@ -334,10 +334,9 @@ void BuildComplete3(int n, Graph* graph) {
 }
 
 // "auto" picks the sparse library by the ordering analysis' flops per factor
-// entry: Eigen's simplicial LDL^T below 40 (CHOLMOD's own supernodal
-// switch), CHOLMOD from there with Ceres' ordering, and above 150 CHOLMOD
-// with the least-fill ordering of AMD, METIS and NESDIS. Every choice
-// reaches the optimum the other library reaches.
+// entry: Eigen's simplicial LDL^T up to 150 (with Ceres' ordering), above it
+// CHOLMOD with the least-fill ordering of AMD, METIS and NESDIS. Every
+// choice reaches the optimum the other library reaches.
 TEST(OptimizerTest, AutoSparseLibraryFollowsTheFactorDensity) {
   struct Case {
     const char* name;
@@ -349,7 +348,7 @@ TEST(OptimizerTest, AutoSparseLibraryFollowsTheFactorDensity) {
       {"2D lawn-mower", [](Graph* g) { BuildGraph2(Graph2Spec(), g); },
        "eigen_sparse", false},
       {"complete 3D, 12 poses", [](Graph* g) { BuildComplete3(12, g); },
-       "suite_sparse", false},
+       "eigen_sparse", false},
       {"complete 3D, 60 poses", [](Graph* g) { BuildComplete3(60, g); },
        "suite_sparse", true},
   };
@@ -364,12 +363,10 @@ TEST(OptimizerTest, AutoSparseLibraryFollowsTheFactorDensity) {
     EXPECT_EQ(s.sparse_library, c.library) << c.name;
     EXPECT_EQ(s.ordering != "ceres", c.searched)
         << c.name << ": " << s.ordering;
-    if (std::string(c.library) == "eigen_sparse") {
-      EXPECT_LT(s.factor_flops_per_entry, 40.0) << c.name;
-    } else {
-      EXPECT_GE(s.factor_flops_per_entry, 40.0) << c.name;
-      EXPECT_EQ(s.factor_flops_per_entry > 150.0, c.searched) << c.name;
-    }
+    EXPECT_GT(s.factor_flops_per_entry, 0.0) << c.name;
+    EXPECT_EQ(s.factor_flops_per_entry > 150.0,
+              std::string(c.library) == "suite_sparse")
+        << c.name << ": " << s.factor_flops_per_entry;
     options.sparse_library = std::string(c.library) == "eigen_sparse"
                                  ? "suite_sparse"
                                  : "eigen_sparse";
