@@ -266,7 +266,8 @@ int RunRunCommand(const std::vector<std::string>& args) {
       "global, %d final pass; %d undone by the chi2 test; largest "
       "correction %.3f m, %.2f deg); "
       "tracking: %d correlative, %d rechecked from constant velocity, %d "
-      "odometry only, odometry rejected on %d scans (keyframe odometry "
+      "odometry only (%d of them slides off the odometry), odometry "
+      "rejected on %d scans (keyframe odometry "
       "factors %d dropped, %d down-weighted); %d optimizations; %d scans "
       "refined\n",
       s.scans, s.keyframes, s.closures_proposed + s.final_closures_proposed,
@@ -276,8 +277,9 @@ int RunRunCommand(const std::vector<std::string>& args) {
       s.global_closures_accepted, s.final_closures_accepted,
       s.closures_reverted, s.largest_correction_m, s.largest_correction_deg,
       s.tracking_correlative, s.tracking_rechecks, s.tracking_failures,
-      s.odometry_rejected, s.odometry_factors_dropped,
-      s.odometry_factors_weakened, s.optimizations, s.scans_refined);
+      s.tracking_slides_rejected, s.odometry_rejected,
+      s.odometry_factors_dropped, s.odometry_factors_weakened, s.optimizations,
+      s.scans_refined);
   std::printf(
       "run: time %.2f s (read %.2f s, slam %.2f s: matching %.2f, loops %.2f, "
       "optimization %.2f, refinement %.2f)\n",

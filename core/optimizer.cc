@@ -645,10 +645,12 @@ OptimizerSummary Optimize(Graph* graph, const OptimizerOptions& options,
   //    0.19-0.22 -> 0.15 s), and 40 is CHOLMOD's own supernodal switch. Not
   //    adopted: laser SLAM's pose graphs of ACES played three times (80-117
   //    flops per entry) then solve on CHOLMOD and the BLAS, and with
-  //    OpenBLAS that run registers one pass of the log 15 degrees off (42
+  //    OpenBLAS that run registered one pass of the log 81 degrees off (42
   //    closures undone by the chi2 test, a map 40 % larger), where Eigen
-  //    and CHOLMOD on ATLAS map it right: a rounding-level difference that
-  //    flips a loop-closure decision (README, "Load").
+  //    and CHOLMOD on ATLAS mapped it right: a rounding-level difference
+  //    flipped a tracking decision at a fast turn (fixed in the laser
+  //    tracking since; README, "Load"). Eigen keeps such runs independent
+  //    of the BLAS.
   constexpr double kSupernodalFlopsPerEntry = 150.0;
   constexpr double kOrderingSearchFlopsPerEntry = 150.0;
   if (summary.ordering.empty()) summary.ordering = "ceres";

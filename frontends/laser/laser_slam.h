@@ -18,7 +18,10 @@
 //     (robust_tracking): the odometry is a prior, not the truth; when its
 //     increment is implausible or the match fits badly, ICP from the
 //     constant-velocity prediction competes, the better fit wins, and the
-//     keyframe odometry factor across a rejected increment is dropped.
+//     keyframe odometry factor across a rejected increment is dropped; a
+//     poorly fitting match seeded by a plausible odometry increment that
+//     lies beyond odometry_break_chi2 of it (a slide instead of a fast
+//     turn) is not used: the prediction is kept.
 //  4. Keyframes: when the tracked pose has moved keyframe_distance or turned
 //     keyframe_rotation since the last keyframe, the scan becomes a keyframe
 //     (a Pose2 node, id = keyframe index, stamped). Two factors join it to
@@ -46,10 +49,10 @@
 //     A candidate of a place closed in the last loop_consistency_keyframes
 //     keyframes is first verified by ICP alone from the pose that closure
 //     predicts (loop_seeded_verification). A passing match is accepted
-//     only when the correction it implies agrees (loop_consistency_distance / _angle, both corrections applied
-//     to k's estimate, so that the test does not depend on how far the
-//     place is from the map's origin) with a passing match of another
-//     keyframe within loop_consistency_keyframes; both then
+//     only when the correction it implies agrees (loop_consistency_distance /
+//     _angle, both corrections applied to k's estimate, so that the test does
+//     not depend on how far the place is from the map's origin) with a passing
+//     match of another keyframe within loop_consistency_keyframes; both then
 //     enter the graph as between factors with the robust kernel loop_kernel.
 //     Places already holding loop_place_max_closures closures are skipped.
 //     When nothing closes for loop_global_min_path metres, a global search
@@ -123,7 +126,11 @@ struct LaserSlamConfig {
   // scan: the keyframe odometry factor spanning it is dropped (kept with
   // its standard deviations times odometry_break_inflation when no scan
   // match joins the two keyframes), chain links use the tracked motion as
-  // prior.
+  // prior. Conversely, when the match came from the odometry's prediction,
+  // the odometry increment was plausible, the match fits below
+  // tracking_recheck_ratio times the running fitness and its chi2 against
+  // the increment exceeds odometry_break_chi2, the match is not used and
+  // the prediction is kept (tracking_slides_rejected).
   bool robust_tracking = true;
   double tracking_recheck_ratio = 0.7;
   double tracking_recheck_margin = 0.05;
@@ -333,6 +340,9 @@ struct LaserSlamStats {
   int tracking_failures = 0;     // Scans left at the odometry prediction.
   int tracking_rechecks = 0;     // Scans also matched from constant velocity.
   int odometry_rejected = 0;     // Scans whose odometry tracking rejected.
+  // Scans whose match, seeded by a plausible odometry increment, fitted
+  // poorly and lay beyond odometry_break_chi2 of it: left at the odometry.
+  int tracking_slides_rejected = 0;
   int odometry_factors_dropped = 0;   // Keyframe odometry factors dropped...
   int odometry_factors_weakened = 0;  // ... or down-weighted (no scan match).
   int closures_proposed = 0;          // Candidates verified by matching.
@@ -448,6 +458,10 @@ class LaserSlam {
   // the two odometry poses, in ICP's units (tracking_odometry_weight).
   IcpPrior OdometryPrior(const Pose2& pose, const Pose2& odom_from,
                          const Pose2& odom_to) const;
+  // The chi2 of a tracked increment under the odometry noise model of the
+  // odometry increment odom_step.
+  double OdometryDisagreement(const Pose2& odom_step,
+                              const Pose2& increment) const;
   void CloseLoopsFinal();
   // Updates the largest-correction statistics with an accepted closure's:
   // it moves a keyframe from `before` to `after`. True when the move is
