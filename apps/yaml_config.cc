@@ -43,7 +43,8 @@ bool CheckKnownKeys(const YAML::Node& node,
 bool CheckTopLevelSections(const YAML::Node& root, const std::string& where,
                            std::string* error) {
   return CheckKnownKeys(
-      root, {"optimize", "simulate", "eval", "run", "inertial", "loops"}, where, error);
+      root, {"optimize", "simulate", "eval", "run", "inertial", "loops"}, where,
+      error);
 }
 
 bool LoadYamlFile(const std::string& path, YAML::Node* root,

@@ -895,10 +895,10 @@ class LowerHessianAssembler {
       if (e.i == 0 || e.j == 0 || e.i == e.j) continue;
       const bool i_first = position[e.i] < position[e.j];
       const auto& list = below[i_first ? e.i : e.j];
-      slot_[k] = static_cast<int>(
-          std::lower_bound(list.begin(), list.end(),
-                           position[i_first ? e.j : e.i]) -
-          list.begin());
+      slot_[k] =
+          static_cast<int>(std::lower_bound(list.begin(), list.end(),
+                                            position[i_first ? e.j : e.i]) -
+                           list.begin());
     }
     const int size = block * (n - 1);
     std::vector<int> outer(size + 1, 0);
@@ -1328,7 +1328,7 @@ bool CertifySplit(const IsotropicProblem& p, const ReducedBlocks& b,
       std::max(o.relative_gap * std::max(f, 0.0) / (d * n), 1e-12 * scale);
   clock.Lap("lambda");
   ShiftedCertificateOp op(b, lambda, o.supernodal_flops_per_entry,
-                         &result->phase_seconds);
+                          &result->phase_seconds);
   // Inertia of K(-delta): S + delta I >= 0 iff no negative pivot. Else the
   // shift goes down by tens until it is below lambda_min.
   double sigma = -result->delta;
@@ -1424,10 +1424,9 @@ bool CertifyGraph(const Graph& graph, const CertificateOptions& options,
   // Refined with the early stop first; when that point is not certified,
   // refined to the end and certified again (the early stop must not turn a
   // certified graph into an uncertified one).
-  result->refine_iterations =
-      NewtonRefineSplit(p, m, blocks, options.max_refine_iterations, &y, true,
-                        options.supernodal_flops_per_entry,
-                        &result->phase_seconds);
+  result->refine_iterations = NewtonRefineSplit(
+      p, m, blocks, options.max_refine_iterations, &y, true,
+      options.supernodal_flops_per_entry, &result->phase_seconds);
   const bool newton = result->refine_iterations >= 0;
   if (!newton) {
     y = given;
@@ -1438,10 +1437,9 @@ bool CertifyGraph(const Graph& graph, const CertificateOptions& options,
   bool ok = CertifySplit(p, blocks, y.rightCols(d * n), options, result, error);
   if (newton && !(ok && result->certified)) {
     refine_start = std::chrono::steady_clock::now();
-    const int more =
-        NewtonRefineSplit(p, m, blocks, options.max_refine_iterations, &y,
-                          false, options.supernodal_flops_per_entry,
-                          &result->phase_seconds);
+    const int more = NewtonRefineSplit(
+        p, m, blocks, options.max_refine_iterations, &y, false,
+        options.supernodal_flops_per_entry, &result->phase_seconds);
     result->refine_seconds += SecondsSince(refine_start);
     if (more >= 0) {
       result->refine_iterations += more;

@@ -51,8 +51,8 @@
 
 #include <Eigen/Core>
 
-#include "core/metrics/matrix_pose.h"
 #include "core/graph.h"
+#include "core/metrics/matrix_pose.h"
 #include "core/trajectory.h"
 
 namespace slam {

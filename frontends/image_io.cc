@@ -152,8 +152,7 @@ bool ReadGrayImage(const std::string& path, int min_side, cv::Mat* image,
 }
 
 bool ReadImageChecked(const std::string& path, int flags, int min_side,
-                      cv::Mat* image, std::string* error,
-                      int64_t max_pixels) {
+                      cv::Mat* image, std::string* error, int64_t max_pixels) {
   image->release();
   struct stat st;
   if (::stat(path.c_str(), &st) != 0) {  // Dangling link, loop, missing.

@@ -477,24 +477,30 @@ TEST(VocabularyTest, ReadsWhatOpenCvFileStorageWritesForDbow2) {
   std::mt19937 rng(11);
   std::vector<Descriptor> centres;
   for (int i = 0; i < 4; ++i) centres.push_back(RandomDescriptor(&rng));
-  const std::vector<double> weights = {1.4426950408889634, 0.1, 1.0 / 3.0,
-                                       0.0};
+  const std::vector<double> weights = {1.4426950408889634, 0.1, 1.0 / 3.0, 0.0};
   cv::FileStorage fs("voc.yml", cv::FileStorage::WRITE |
                                     cv::FileStorage::MEMORY |
                                     cv::FileStorage::FORMAT_YAML);
-  fs << "vocabulary" << "{";
+  fs << "vocabulary"
+     << "{";
   fs << "k" << 4 << "L" << 1 << "scoringType" << 0 << "weightingType" << 0;
-  fs << "nodes" << "[";
+  fs << "nodes"
+     << "[";
   for (int i = 0; i < 4; ++i) {
-    fs << "{:" << "nodeId" << i + 1 << "parentId" << 0 << "weight"
-       << weights[i] << "descriptor" << DescriptorText(centres[i]) + " "
+    fs << "{:"
+       << "nodeId" << i + 1 << "parentId" << 0 << "weight" << weights[i]
+       << "descriptor" << DescriptorText(centres[i]) + " "
        << "}";
   }
-  fs << "]" << "words" << "[";
+  fs << "]"
+     << "words"
+     << "[";
   for (int i = 0; i < 4; ++i) {
-    fs << "{:" << "wordId" << i << "nodeId" << i + 1 << "}";
+    fs << "{:"
+       << "wordId" << i << "nodeId" << i + 1 << "}";
   }
-  fs << "]" << "}";
+  fs << "]"
+     << "}";
   const std::string text = fs.releaseAndGetString();
   ASSERT_TRUE(testing::Contains(text, "weight:")) << text;
   const std::string path = testing::TempDir() + "/opencv.yml";
@@ -553,8 +559,8 @@ TEST(VocabularyTest, GzippedYamlIsReadWithABoundedSize) {
   testing::WriteText(dir + "/bomb.yml.gz", bomb);
   Vocabulary fresh;
   EXPECT_FALSE(fresh.Load(dir + "/bomb.yml.gz", &error));
-  EXPECT_TRUE(testing::Contains(error,
-                                "bomb.yml.gz: decompresses to more than"))
+  EXPECT_TRUE(
+      testing::Contains(error, "bomb.yml.gz: decompresses to more than"))
       << error;
   EXPECT_TRUE(fresh.empty());
 }

@@ -109,8 +109,7 @@ TEST(ImageIoTest, FilesThatAreNotImagesAndTinyImagesAreNamedErrors) {
   fs::create_symlink(dir + "/loop_a.png", dir + "/loop_b.png");
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"fifo.png", "cannot read the image: not a regular file (a FIFO)"},
-      {"folder.png",
-       "cannot read the image: not a regular file (a directory)"},
+      {"folder.png", "cannot read the image: not a regular file (a directory)"},
       {"dangling.png", "cannot read the image: No such file"},
       {"loop_a.png", "cannot read the image: Too many levels"},
       {"missing.png", "cannot read the image: No such file"}};

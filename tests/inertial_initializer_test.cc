@@ -882,10 +882,10 @@ TEST(InertialFlightTest, HoverAndVerticalMotionLeaveTheYawUnobservable) {
 // was 14.3 / 65.0 / 206 (seeds 61 / 69 / 72; pose 3.1 / 56 / 125). Now that
 // pass restarts from the rough alignment (inertial_estimator.h): 7.3 / 5.4 /
 // 5.1 (pose 3.6 / 3.6 / 4.7); 6.2 / 3.7 / 4.4 once the restarts stopped
-// counting the alignment's fixes twice (InertialInitialization::unaligned_*). By hand over
-// seeds 5, 61-73 (20 s and 60 s flights; the stretch exists on 11 and 14
-// of them): mean 32.6 -> 6.6 and 23.5 -> 6.1, worst 206 -> 11.7 and 106 ->
-// 9.0; one flight got worse (seed 5, 20 s: 6.7 -> 11.7).
+// counting the alignment's fixes twice (InertialInitialization::unaligned_*).
+// By hand over seeds 5, 61-73 (20 s and 60 s flights; the stretch exists on 11
+// and 14 of them): mean 32.6 -> 6.6 and 23.5 -> 6.1, worst 206 -> 11.7 and 106
+// -> 9.0; one flight got worse (seed 5, 20 s: 6.7 -> 11.7).
 TEST(InertialFlightTest, WindowWithoutYawRestartsFromTheRoughAlignment) {
   InertialOptions options = EurocOptions();
   options.newest_covariance = true;

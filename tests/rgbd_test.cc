@@ -319,8 +319,7 @@ double RunSyntheticRgbd(double depth_noise, bool use_depth) {
     // Without depth no keypoint is stereo-like: the map never starts, and
     // the run says so early instead of returning an untracked path.
     EXPECT_FALSE(ran);
-    EXPECT_NE(error.find("nothing can be tracked"), std::string::npos)
-        << error;
+    EXPECT_NE(error.find("nothing can be tracked"), std::string::npos) << error;
     return INFINITY;
   }
   EXPECT_TRUE(ran) << error;

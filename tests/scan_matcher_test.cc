@@ -118,7 +118,8 @@ TEST(ScanMatcherTest, CorrelativeBranchAndBoundEqualsExhaustiveSearch) {
 // +-2 m with six levels. The bound of a block of offsets must count the
 // points that land on the grid only for the block's larger offsets; it
 // dropped them and pruned the match (score 0 against 0.88).
-TEST(ScanMatcherTest, CorrelativeBranchAndBoundEqualsExhaustiveSearchAtTheEdge) {
+TEST(ScanMatcherTest,
+     CorrelativeBranchAndBoundEqualsExhaustiveSearchAtTheEdge) {
   Points2 wall, seen;
   for (int i = 0; i <= 100; ++i) wall.emplace_back(0.02 * i, 0.0);
   for (int i = 0; i <= 20; ++i) seen.emplace_back(-1.5 + 0.1 * i, 0.0);

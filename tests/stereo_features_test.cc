@@ -379,10 +379,10 @@ TEST(StereoFeaturesTest, GridFastCornersCarryOrbsOwnAnglesAndDescriptors) {
       if (all[j].pt != keypoints[k].pt) continue;
       EXPECT_FLOAT_EQ(all[j].response, keypoints[k].response);
       EXPECT_EQ(all[j].angle, keypoints[k].angle) << "keypoint " << k;
-      EXPECT_EQ(cv::norm(descriptors.row(static_cast<int>(k)),
-                         all_descriptors.row(static_cast<int>(j)),
-                         cv::NORM_HAMMING),
-                0.0)
+      EXPECT_EQ(
+          cv::norm(descriptors.row(static_cast<int>(k)),
+                   all_descriptors.row(static_cast<int>(j)), cv::NORM_HAMMING),
+          0.0)
           << "keypoint " << k;
       ++compared;
       break;

@@ -501,10 +501,10 @@ TEST(StereoRunTest, InputsAndOutputsAreCheckedBeforeTheFirstFrame) {
        dir + "/missing.voc: cannot open"},
       {"", "--report " + dir + "/a_folder: is a directory"}};
   for (const auto& [extra, expected] : cases) {
-    WriteText(dir + "/run.yaml", "run:\n  pipeline: stereo\n  sequence: " +
-                                     dir + "/seq\n  output_dir: " + dir +
-                                     "/out\n" +
-                                     (extra.empty() ? "" : "  " + extra));
+    WriteText(dir + "/run.yaml",
+              "run:\n  pipeline: stereo\n  sequence: " + dir +
+                  "/seq\n  output_dir: " + dir + "/out\n" +
+                  (extra.empty() ? "" : "  " + extra));
     const std::string report =
         extra.empty() ? dir + "/a_folder" : dir + "/r.json";
     EXPECT_EQ(RunSlam("run --config " + dir + "/run.yaml --report " + report,
@@ -531,8 +531,8 @@ TEST(StereoRunTest, LostFramesAreReportedAndOneFrameRuns) {
   EXPECT_TRUE(Contains(log, "run: warning: ")) << log;
   EXPECT_TRUE(Contains(log, "of 8 frames lost (no pose from their images"))
       << log;
-  EXPECT_FALSE(Contains(ReadText(dir + "/out/report.json"),
-                        "\"lost_frames\": 0"));
+  EXPECT_FALSE(
+      Contains(ReadText(dir + "/out/report.json"), "\"lost_frames\": 0"));
 
   const std::string one = dir + "/one";
   WriteSequence(one + "/seq", 1);
@@ -551,8 +551,7 @@ TEST(StereoRunTest, ASignalLeavesNoOutputFolder) {
   const std::string dir = TempDir();
   WriteSequence(dir + "/seq", 60);
   WriteText(dir + "/run.yaml", "run:\n  pipeline: stereo\n  sequence: " + dir +
-                                   "/seq\n  output_dir: " + dir +
-                                   "/new/out\n");
+                                   "/seq\n  output_dir: " + dir + "/new/out\n");
   // (Not INT or QUIT: a shell starts background jobs with those ignored,
   // and an ignored signal stays ignored.)
   for (const char* signal : {"TERM", "HUP"}) {
@@ -564,8 +563,8 @@ TEST(StereoRunTest, ASignalLeavesNoOutputFolder) {
         " $pid; wait $pid; echo $? > " + dir + "/code.txt";
     ASSERT_EQ(std::system(("bash -c '" + script + "'").c_str()), 0);
     EXPECT_NE(ReadText(dir + "/code.txt"), "0\n") << signal;
-    EXPECT_FALSE(Exists(dir + "/new")) << signal << ": "
-                                       << ReadText(dir + "/log.txt");
+    EXPECT_FALSE(Exists(dir + "/new"))
+        << signal << ": " << ReadText(dir + "/log.txt");
   }
 }
 

@@ -14,26 +14,26 @@ using namespace config_schema;  // NOLINT: the schema vocabulary.
 Section Schema(RgbdRunConfig* c) {
   RgbdCamera& k = c->intrinsics;
   RgbdConfig& d = c->depth;
-  Section run{"run",
-              {S("pipeline", &c->pipeline), S("sequence", &c->sequence),
-               S("ground_truth", &c->ground_truth),
-               S("output_dir", &c->output_dir), I("max_frames", &c->max_frames),
-               D("max_time_difference", &c->max_time_difference),
-               S("camera", &c->camera),
-               B("fixed_rate_capture", &d.fixed_rate_capture)},
-              {{"intrinsics",
-                {D("fx", &k.fx), D("fy", &k.fy), D("cx", &k.cx), D("cy", &k.cy),
-                 D("k1", &k.k1), D("k2", &k.k2), D("p1", &k.p1), D("p2", &k.p2),
-                 D("k3", &k.k3)},
-                {}},
-               {"depth",
-                {D("depth_factor", &d.depth_factor),
-                 D("virtual_baseline", &d.virtual_baseline),
-                 D("min_depth", &d.min_depth), D("max_depth", &d.max_depth),
-                 I("depth_radius", &d.depth_radius),
-                 D("max_depth_step", &d.max_depth_step)},
-                {}},
-               {"features", OrbFeatureFields(&c->features), {}}}};
+  Section run{
+      "run",
+      {S("pipeline", &c->pipeline), S("sequence", &c->sequence),
+       S("ground_truth", &c->ground_truth), S("output_dir", &c->output_dir),
+       I("max_frames", &c->max_frames),
+       D("max_time_difference", &c->max_time_difference),
+       S("camera", &c->camera), B("fixed_rate_capture", &d.fixed_rate_capture)},
+      {{"intrinsics",
+        {D("fx", &k.fx), D("fy", &k.fy), D("cx", &k.cx), D("cy", &k.cy),
+         D("k1", &k.k1), D("k2", &k.k2), D("p1", &k.p1), D("p2", &k.p2),
+         D("k3", &k.k3)},
+        {}},
+       {"depth",
+        {D("depth_factor", &d.depth_factor),
+         D("virtual_baseline", &d.virtual_baseline),
+         D("min_depth", &d.min_depth), D("max_depth", &d.max_depth),
+         I("depth_radius", &d.depth_radius),
+         D("max_depth_step", &d.max_depth_step)},
+        {}},
+       {"features", OrbFeatureFields(&c->features), {}}}};
   for (Section& s :
        VisualSlamSections(&c->slam.odometry, &c->slam.loop_closure)) {
     run.children.push_back(std::move(s));

@@ -198,10 +198,9 @@ int WriteVisualRun(const VisualRunInfo& info, const VisualSlam& slam,
   // reported as such; the run itself succeeded.
   EvalResult check;
   std::string why;
-  const bool evaluate =
-      !info.ground_truth.empty() &&
-      EvaluateTrajectories(info.ground_truth, trajectory, info.eval, &check,
-                           &why);
+  const bool evaluate = !info.ground_truth.empty() &&
+                        EvaluateTrajectories(info.ground_truth, trajectory,
+                                             info.eval, &check, &why);
   if (!info.ground_truth.empty() && !evaluate) {
     std::printf("run: evaluation not computed: %s\n", why.c_str());
     JsonObject evaluation;

@@ -630,8 +630,8 @@ bool Vocabulary::LoadDbow2Yaml(const std::string& path, std::string* error) {
   const int levels = static_cast<int>(levels64);
   const uint64_t num_nodes = static_cast<uint64_t>(yaml.nodes.size()) + 1;
   if (k64 != yaml.k || levels64 != yaml.levels) {
-    *error = path + ": k = " + std::to_string(yaml.k) + ", L = " +
-             std::to_string(yaml.levels) + " outside [2, " +
+    *error = path + ": k = " + std::to_string(yaml.k) +
+             ", L = " + std::to_string(yaml.levels) + " outside [2, " +
              std::to_string(kMaxK) + "] and [1, " + std::to_string(kMaxLevels) +
              "] (branching factor k, levels L)";
     return false;
@@ -687,8 +687,8 @@ bool Vocabulary::LoadDbow2Yaml(const std::string& path, std::string* error) {
   // DBoW2 numbers the words as the leaves in node order, like Finish.
   if (yaml.words.size() != words_.size()) {
     *error = path + ": " + std::to_string(yaml.words.size()) +
-             " words listed but the tree has " +
-             std::to_string(words_.size()) + " leaves";
+             " words listed but the tree has " + std::to_string(words_.size()) +
+             " leaves";
     nodes_.clear();
     words_.clear();
     return false;

@@ -78,7 +78,7 @@ struct InertialOptions {
   // measure the bias, no initial state): the sensor's turn-on bias, around
   // initial_bias (inertial_initializer.h).
   double moving_start_gyro_bias_sigma = 1e-2;  // rad/s
-  SlidingWindowOptions window;          // prior_builder set by the estimator.
+  SlidingWindowOptions window;  // prior_builder set by the estimator.
   // Marginal covariance of the newest keyframe after every window update
   // (for consistency checks; costs a covariance computation per update).
   bool newest_covariance = false;

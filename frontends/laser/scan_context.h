@@ -36,7 +36,7 @@ struct ScanContextOptions {
 
 struct ScanContext {
   int rings = 0, sectors = 0;
-  std::vector<float> cells;     // rings x sectors, row-major by ring.
+  std::vector<float> cells;  // rings x sectors, row-major by ring.
   // Per ring: occupied fraction, then the harmonic magnitudes.
   std::vector<float> ring_key;
   bool empty() const { return cells.empty(); }

@@ -18,7 +18,6 @@ std::string SizeText(const cv::Mat& m) {
   return std::to_string(m.cols) + "x" + std::to_string(m.rows);
 }
 
-
 }  // namespace
 
 RgbdSequenceSource::RgbdSequenceSource(const TumRgbdSequence* sequence,

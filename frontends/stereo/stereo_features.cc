@@ -144,7 +144,8 @@ float OrbHarrisResponse(const cv::Mat& img, int x, int y) {
     }
   }
   return (static_cast<float>(a) * b - static_cast<float>(c) * c -
-          kHarrisK * (static_cast<float>(a) + b) * (static_cast<float>(a) + b)) *
+          kHarrisK * (static_cast<float>(a) + b) *
+              (static_cast<float>(a) + b)) *
          scale_sq_sq;
 }
 
@@ -432,10 +433,9 @@ void StereoFeatureExtractor::DetectGrid(
       if (ids.empty()) continue;
       const size_t n =
           std::min(ids.size(), static_cast<size_t>(config_.max_per_cell));
-      std::partial_sort(ids.begin(), ids.begin() + n, ids.end(),
-                        [&](int a, int b) {
-                          return found[a].response > found[b].response;
-                        });
+      std::partial_sort(
+          ids.begin(), ids.begin() + n, ids.end(),
+          [&](int a, int b) { return found[a].response > found[b].response; });
       for (size_t t = 0; t < n; ++t) {
         cv::KeyPoint k = found[ids[t]];
         at_level->push_back(k.pt);

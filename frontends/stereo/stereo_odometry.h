@@ -205,7 +205,7 @@ struct StereoOdometryConfig {
   // Bundle adjustment.
   int window_keyframes = 8;
   int local_ba_iterations = 10;
-  int final_ba_iterations = 30;  // 0: no final global BA.
+  int final_ba_iterations = 30;       // 0: no final global BA.
   bool local_mapping_thread = false;  // Step 8 on a second thread (above).
 };
 

@@ -57,7 +57,7 @@ struct StereoSimulationConfig {
   double min_height = -4.0, max_height = 2.0;
   double min_depth = 1.0, max_depth = 60.0;
   double pixel_sigma = 0.0;
-  double disparity_sigma = -1.0;  // Pixels; < 0: see above.
+  double disparity_sigma = -1.0;   // Pixels; < 0: see above.
   double disparity_bias = 0.0;     // Pixels.
   double disparity_quantum = 0.0;  // Pixels; 0: not quantized.
   int descriptor_flips = 4;

@@ -84,8 +84,7 @@ bool VisualSlam::Run(const VisualSlamCallbacks& callbacks,
       }
       if (odometry_->NumKeyframes() == 0 &&
           k + 1 == std::min(frames, kFramesToStartTheMap)) {
-        *error = "frames 0-" + std::to_string(k) +
-                 ": none has the " +
+        *error = "frames 0-" + std::to_string(k) + ": none has the " +
                  std::to_string(config_.odometry.min_initial_points) +
                  " points with depth needed to start the map (blank, "
                  "uniform or noise images, or a calibration that does not "
