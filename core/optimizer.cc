@@ -652,7 +652,6 @@ OptimizerSummary Optimize(Graph* graph, const OptimizerOptions& options,
   //    tracking since; README, "Load"). Eigen keeps such runs independent
   //    of the BLAS.
   constexpr double kSupernodalFlopsPerEntry = 150.0;
-  constexpr double kOrderingSearchFlopsPerEntry = 150.0;
   if (summary.ordering.empty()) summary.ordering = "ceres";
   summary.sparse_library = options.sparse_library;
   if (sparse_cholesky && graph->NumNodes() > 1) {
@@ -671,13 +670,10 @@ OptimizerSummary Optimize(Graph* graph, const OptimizerOptions& options,
                                                               : "eigen_sparse";
       summary.factor_flops_per_entry = estimate.flops_per_entry;
     }
-    // Forced to CHOLMOD (no estimate made): the ordering search as well.
-    const bool search_orderings =
-        summary.sparse_library == "suite_sparse" &&
-        (options.sparse_library != "auto" ||
-         estimate.flops_per_entry > kOrderingSearchFlopsPerEntry);
+    // CHOLMOD (chosen or forced) gets the ordering search.
+    const bool dense = summary.sparse_library == "suite_sparse";
     const std::string wanted = options.ordering == "auto"
-                                   ? (search_orderings ? "auto" : "ceres")
+                                   ? (dense ? "auto" : "ceres")
                                    : options.ordering;
     // 3. A factor beyond the memory or flops allowed: conjugate gradients
     //    on the normal equations (Ceres' CGNR, block-Jacobi preconditioner),
