@@ -139,6 +139,44 @@ TEST(ScanMatcherTest,
   EXPECT_NEAR(bb.t.x(), 1.5, 0.06);
 }
 
+// A target rebuilt for new points keeps its grids' storage (loop
+// verification rebuilds one target per candidate): searched after a larger
+// and then a smaller scene, with more and then fewer levels, it gives what
+// a fresh target gives, to the last bit (the same levels and a guess
+// inside the old grids: only the rebuild makes them new).
+TEST(ScanMatcherTest, CorrelativeOnARebuiltTargetEqualsAFreshOne) {
+  Fixture f = MakeFixture(0.0, M_PI, 4);
+  const Pose2 guess = f.truth * Pose2(0.15, -0.1, 0.04);
+  CorrelativeOptions c;
+  c.window_xy = 0.5;
+  c.window_theta = 0.1;
+  c.step_theta = 0.02;
+  c.levels = 4;
+  double fresh_score = 0.0;
+  const Pose2 fresh = f.target.Correlative(f.source, guess, c, &fresh_score);
+  EXPECT_GT(fresh_score, 0.5);
+
+  MatchTarget reused;
+  Points2 big;  // A 20 m x 20 m scene of scattered walls: larger grids.
+  for (int i = 0; i <= 400; ++i) {
+    big.emplace_back(-10.0 + 0.05 * i, -10.0);
+    big.emplace_back(-10.0 + 0.05 * i, 10.0);
+    big.emplace_back(-10.0, -10.0 + 0.05 * i);
+  }
+  reused.Build(big, 0.3, 0.15);
+  CorrelativeOptions wide = c;
+  wide.window_xy = 3.0;
+  double big_score = 0.0;
+  reused.Correlative(f.source, guess, wide, &big_score);
+  reused.Build(f.target.points(), 0.3, 0.15);
+  double score = 0.0;
+  const Pose2 again = reused.Correlative(f.source, guess, c, &score);
+  EXPECT_EQ(score, fresh_score);
+  EXPECT_EQ(again.t.x(), fresh.t.x());
+  EXPECT_EQ(again.t.y(), fresh.t.y());
+  EXPECT_EQ(again.theta, fresh.theta);
+}
+
 // A minimum score only prunes: below the best score the answer is the
 // same; above it, the search reports nothing (initial pose, score 0).
 // A correlative search case: a guess 0.36 m and 0.1 rad from the truth, a
