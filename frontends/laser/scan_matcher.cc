@@ -477,53 +477,57 @@ Pose2 MatchTarget::Correlative(const Points2& source, const Pose2& initial,
     return Pose2(initial.t.x() + dx * res, initial.t.y() + dy * res,
                  initial.theta + (a - ntheta) * options.step_theta);
   };
-  // Per angle: whether every point stays on the grids for every offset of
-  // the window (then its look-ups need no bounds test), and the points'
-  // cell indices into the grids.
+  // Per angle, the points split by where the window's offsets take them:
+  // on the grids for every offset (cell indices, looked up without a bounds
+  // test), off them for every offset (never looked up: they score 0), and
+  // the rest (cells, tested per look-up).
   const int width = l.width, height = l.height;
-  std::vector<char> inside(num_angles);
   std::vector<std::ptrdiff_t> index(num_angles * n);
+  std::vector<int> edge_x(num_angles * n), edge_y(num_angles * n);
+  std::vector<int> num_inside(num_angles), num_edge(num_angles);
   for (int a = 0; a < num_angles; ++a) {
-    bool all = true;
+    int inside = 0, edge = 0;
     for (size_t i = 0; i < n; ++i) {
       const int x = cx[a * n + i], y = cy[a * n + i];
-      all = all && x - nxy >= 0 && y - nxy >= 0 && x + nxy < width &&
-            y + nxy < height;
-      index[a * n + i] = static_cast<std::ptrdiff_t>(y) * width + x;
+      if (x - nxy >= 0 && y - nxy >= 0 && x + nxy < width && y + nxy < height) {
+        index[a * n + inside++] = static_cast<std::ptrdiff_t>(y) * width + x;
+      } else if (x + nxy >= 0 && y + nxy >= 0 && x - nxy < width &&
+                 y - nxy < height) {
+        edge_x[a * n + edge] = x;
+        edge_y[a * n + edge++] = y;
+      }
     }
-    inside[a] = all;
+    num_inside[a] = inside;
+    num_edge[a] = edge;
   }
   // The grid values are floats of at least exp(-2 x 3.5^2 / 2) (a kernel of
   // 3 sigma in cells of at most sigma), i.e. multiples of 2^-41, and a sum
   // of fewer than 4096 of them is exact in double whatever the order: four
-  // partial sums (independent additions) give the same score as one.
+  // partial sums (independent additions) over the points in any order give
+  // the same score as one sum in the source's order.
   auto sum = [&](const std::vector<float>& grid, int a, int dx, int dy) {
     evaluations += static_cast<double>(n);
     const float* g = grid.data();
-    if (inside[a]) {
-      const std::ptrdiff_t* idx = &index[a * n];
-      const std::ptrdiff_t offset =
-          static_cast<std::ptrdiff_t>(dy) * width + dx;
-      double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
-      size_t i = 0;
-      for (; i + 4 <= n; i += 4) {
-        s0 += g[idx[i] + offset];
-        s1 += g[idx[i + 1] + offset];
-        s2 += g[idx[i + 2] + offset];
-        s3 += g[idx[i + 3] + offset];
-      }
-      for (; i < n; ++i) s0 += g[idx[i] + offset];
-      return (s0 + s1) + (s2 + s3);
+    const std::ptrdiff_t* idx = &index[a * n];
+    const std::ptrdiff_t offset = static_cast<std::ptrdiff_t>(dy) * width + dx;
+    const int inside = num_inside[a];
+    double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
+    int i = 0;
+    for (; i + 4 <= inside; i += 4) {
+      s0 += g[idx[i] + offset];
+      s1 += g[idx[i + 1] + offset];
+      s2 += g[idx[i + 2] + offset];
+      s3 += g[idx[i + 3] + offset];
     }
-    double s = 0.0;
-    const int* px = &cx[a * n];
-    const int* py = &cy[a * n];
-    for (size_t i = 0; i < n; ++i) {
-      const int x = px[i] + dx, y = py[i] + dy;
+    for (; i < inside; ++i) s0 += g[idx[i] + offset];
+    const int* px = &edge_x[a * n];
+    const int* py = &edge_y[a * n];
+    for (int e = 0; e < num_edge[a]; ++e) {
+      const int x = px[e] + dx, y = py[e] + dy;
       if (x < 0 || y < 0 || x >= width || y >= height) continue;
-      s += g[static_cast<size_t>(y) * width + x];
+      s1 += g[static_cast<size_t>(y) * width + x];
     }
-    return s;
+    return (s0 + s1) + (s2 + s3);
   };
   // Depth-first branch and bound: a candidate (angle, dx, dy) at level l
   // stands for the offsets [dx, dx + 2^l) x [dy, dy + 2^l); its score on
