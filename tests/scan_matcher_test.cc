@@ -139,11 +139,11 @@ TEST(ScanMatcherTest,
   EXPECT_NEAR(bb.t.x(), 1.5, 0.06);
 }
 
-// A target rebuilt for new points keeps its grids' storage (loop
-// verification rebuilds one target per candidate): searched after a larger
-// and then a smaller scene, with more and then fewer levels, it gives what
-// a fresh target gives, to the last bit (the same levels and a guess
-// inside the old grids: only the rebuild makes them new).
+// A target rebuilt for new points (the tracking's submap is rebuilt at
+// every keyframe) forgets the grids of the old ones: searched after a
+// larger scene around the same guess with the same levels (grids that would
+// cover the new search), it gives what a fresh target gives, to the last
+// bit.
 TEST(ScanMatcherTest, CorrelativeOnARebuiltTargetEqualsAFreshOne) {
   Fixture f = MakeFixture(0.0, M_PI, 4);
   const Pose2 guess = f.truth * Pose2(0.15, -0.1, 0.04);

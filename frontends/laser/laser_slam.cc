@@ -578,7 +578,7 @@ bool LaserSlam::VerifyLoop(int k, int j, const Pose2& guess,
                              j + config_.loop_submap_half_width),
                     pose_j.Inverse());
   auto clock = std::chrono::steady_clock::now();
-  MatchTarget& target = loop_target_;
+  MatchTarget target;
   target.Build(VoxelFilter(submap, config_.submap_voxel),
                config_.icp.max_correspondence_distance, config_.normal_radius);
   stats_.loop_target_seconds += Seconds(clock);

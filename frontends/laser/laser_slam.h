@@ -494,9 +494,6 @@ class LaserSlam {
   Pose2 ScanPose(size_t i) const;     // Output pose of scan i.
   std::vector<FactorId> loop_factors_;
   MatchTarget local_submap_;
-  // Rebuilt for every loop candidate's search; one object, so that its
-  // likelihood grids' storage is reused (VerifyLoop).
-  MatchTarget loop_target_;
   Pose2 tracked_;                // Robot pose of the last scan (world).
   Pose2 last_odom_;              // Odometry pose of the last scan.
   Pose2 velocity_;               // Tracked increment of the last scan.

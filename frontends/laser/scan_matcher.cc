@@ -83,10 +83,7 @@ void MatchTarget::Build(Points2 points, double cell_size,
                         double normal_radius) {
   points_ = std::move(points);
   cell_size_ = cell_size;
-  // The grids are invalid for the new points; their storage is kept, so
-  // that a target rebuilt for each search (loop verification) reuses its
-  // pages instead of faulting in and zeroing fresh ones at every search.
-  likelihood_.valid = false;
+  likelihood_ = LikelihoodGrids();
   normals_.assign(points_.size(), Eigen::Vector2d::Zero());
   has_normal_.assign(points_.size(), 0);
   cell_start_.clear();
@@ -334,7 +331,7 @@ void MatchTarget::BuildLikelihood(const CorrelativeOptions& options,
   const Eigen::Vector2d need_lo = want_lo.cwiseMax(target_lo);
   const Eigen::Vector2d need_hi = want_hi.cwiseMin(target_hi);
   if (l.resolution == options.resolution && l.sigma == options.sigma &&
-      l.levels == std::max(0, options.levels) && l.valid &&
+      l.levels == std::max(0, options.levels) && !l.pyramid.empty() &&
       (need_lo.array() >= l.valid_lo.array()).all() &&
       (need_hi.array() <= l.valid_hi.array()).all()) {
     return;
@@ -356,7 +353,7 @@ void MatchTarget::BuildLikelihood(const CorrelativeOptions& options,
   l.width = static_cast<int>((l.valid_hi.x() - l.origin.x()) / res) + 2;
   l.height = static_cast<int>((l.valid_hi.y() - l.origin.y()) / res) + 2;
   const size_t cells = static_cast<size_t>(l.width) * l.height;
-  l.pyramid.resize(l.levels + 1);
+  l.pyramid.assign(l.levels + 1, std::vector<float>());
   l.pyramid[0].assign(cells, 0.0f);
   std::vector<float>& fine = l.pyramid[0];
   const double inv_two_sigma2 = 1.0 / (2.0 * options.sigma * options.sigma);
@@ -401,7 +398,7 @@ void MatchTarget::BuildLikelihood(const CorrelativeOptions& options,
     const int step = 1 << (level - 1);
     const std::vector<float>& below = l.pyramid[level - 1];
     std::vector<float>& up = l.pyramid[level];
-    up.resize(cells);  // Every cell is written below.
+    up.resize(cells);
     const int inner = std::max(0, l.width - step);
     for (int y = 0; y < l.height; ++y) {
       const ConstRowMap a(&below[static_cast<size_t>(y) * l.width], l.width);
@@ -417,7 +414,6 @@ void MatchTarget::BuildLikelihood(const CorrelativeOptions& options,
       out.tail(l.width - inner) = rows.tail(l.width - inner);
     }
   }
-  l.valid = true;
 }
 
 Pose2 MatchTarget::Correlative(const Points2& source, const Pose2& initial,

@@ -184,8 +184,6 @@ class MatchTarget {
 
  private:
   struct LikelihoodGrids {
-    // False until built for the current points (the storage outlives it).
-    bool valid = false;
     double resolution = 0.0, sigma = 0.0;
     int levels = -1;
     Eigen::Vector2d origin = Eigen::Vector2d::Zero();
