@@ -69,8 +69,8 @@ def rotation_noise_variant(path, sigma, seed, out_dir):
     return out
 
 
-# g2o's command-line tool, when one is on the PATH (Debian 12 ships the
-# library, libg2o-dev, but no CLI): 20 Gauss-Newton iterations, CHOLMOD,
+# g2o's command-line tool, when one is on the PATH (Debian 12 ships no g2o
+# package, neither the library nor the CLI): 20 Gauss-Newton iterations, CHOLMOD,
 # OpenMP off (faster on 2 cores), whole process timed.
 G2O = shutil.which("g2o")
 
