@@ -107,6 +107,9 @@ bool ValidateStereoOdometryConfig(const StereoOdometryConfig& c,
         "keyframes: tracked_ratio in [0, 1], close_tracked and new_close "
         ">= 0, rotation > 0, 1 <= min_frames <= max_frames, "
         "min_initial_points >= 6");
+  if (!(c.between_acceleration_sigma >= 0) ||
+      !std::isfinite(c.between_acceleration_sigma))
+    return fail("keyframes: between_acceleration_sigma >= 0 and finite");
   if (c.min_point_observations < 1 || c.cull_after_keyframes < 0)
     return fail("min_point_observations >= 1, cull_after_keyframes >= 0");
   if (c.window_keyframes < 1 || c.local_ba_iterations < 0 ||
@@ -1048,6 +1051,19 @@ StereoFrameResult StereoOdometry::AddFrame(const StereoFeatureFrame& frame) {
   } else {
     record.keyframe = last_id;
     record.keyframe_to_frame = from_last;
+    if (!result.lost && config_.between_acceleration_sigma > 0 &&
+        !config_.interpolate_between_keyframes) {
+      // The tracked position's covariance for the smoothing of step 10:
+      // the pose-only refinement's information over all its matches.
+      Matrix6 information;
+      TrackingInformation(frame, frame_matches, pose, false, &information);
+      const Eigen::LDLT<Matrix6> ldlt(information);
+      if (ldlt.info() == Eigen::Success && ldlt.vectorD().minCoeff() > 0 &&
+          ldlt.vectorD().minCoeff() > 1e-9 * ldlt.vectorD().maxCoeff()) {
+        record.position_covariance =
+            ldlt.solve(Matrix6::Identity()).topLeftCorner<3, 3>();
+      }
+    }
   }
   UpdateLastFramePoints(frame, pose, frame_matches, result.keyframe);
   frames_.push_back(record);
@@ -1113,11 +1129,104 @@ void StereoOdometry::Finish() {
 }
 
 Trajectory StereoOdometry::FrameTrajectory() const {
+  std::vector<Pose3> poses;
+  poses.reserve(frames_.size());
+  for (const FrameRecord& r : frames_) poses.push_back(FramePose(r));
+  if (config_.between_acceleration_sigma > 0 &&
+      !config_.interpolate_between_keyframes) {
+    // Step 10: each run of frames between two keyframes.
+    size_t first = 0;
+    while (first < frames_.size()) {
+      size_t last = first + 1;
+      while (last < frames_.size() &&
+             frames_[last].keyframe == frames_[first].keyframe) {
+        ++last;
+      }
+      SmoothBetweenKeyframes(first, last, &poses);
+      first = last;
+    }
+  }
   Trajectory trajectory;
-  for (const FrameRecord& r : frames_) {
-    trajectory.push_back({r.stamp, FramePose(r)});
+  for (size_t i = 0; i < frames_.size(); ++i) {
+    trajectory.push_back({frames_[i].stamp, poses[i]});
   }
   return trajectory;
+}
+
+void StereoOdometry::SmoothBetweenKeyframes(size_t first, size_t last,
+                                            std::vector<Pose3>* poses) const {
+  // frames_[first, last) share the reference keyframe a; the first of them
+  // is a itself unless the map started later. Only the frames strictly
+  // between a and the next keyframe b are smoothed.
+  const int64_t a = frames_[first].keyframe;
+  if (a < 0 || static_cast<size_t>(a) + 1 >= keyframes_.size()) return;
+  const Keyframe& ka = keyframes_[a];
+  const Keyframe& kb = keyframes_[a + 1];
+  if (frames_[first].index != ka.frame_index || last >= frames_.size() ||
+      frames_[last].index != kb.frame_index) {
+    return;
+  }
+  const int m = static_cast<int>(last - first);  // b is frame m of the run.
+  if (m < 2) return;
+  // Times from the stamps (the acceleration is per second); a run whose
+  // stamps do not increase is left as tracked.
+  std::vector<double> time(m + 1);
+  for (int i = 0; i <= m; ++i) {
+    time[i] = 1e-9 * static_cast<double>(frames_[first + i].stamp -
+                                         frames_[first].stamp);
+  }
+  for (int i = 1; i <= m; ++i) {
+    if (!(time[i] > time[i - 1])) return;
+  }
+  // The deviations d_i (world frame) of the positions from the screw path
+  // between the two keyframes' final poses, i = 1..m-1 (d_0 = d_m = 0).
+  const Pose3 pa = KeyframePose(a);
+  const Pose3 between = pa.Inverse() * KeyframePose(a + 1);
+  const int n = 3 * (m - 1);
+  Eigen::MatrixXd h = Eigen::MatrixXd::Zero(n, n);
+  Eigen::VectorXd g = Eigen::VectorXd::Zero(n);
+  std::vector<Eigen::Vector3d> path(m + 1);
+  for (int i = 1; i < m; ++i) {
+    path[i] = (pa * ScrewInterpolation(between, time[i] / time[m])).t;
+    const FrameRecord& r = frames_[first + i];
+    if (r.position_covariance.isZero()) continue;  // No measurement.
+    const Eigen::Matrix3d rot = (*poses)[first + i].q.toRotationMatrix();
+    const Eigen::Matrix3d covariance =
+        rot * r.position_covariance * rot.transpose();
+    const Eigen::LDLT<Eigen::Matrix3d> ldlt(covariance);
+    if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 0)) {
+      continue;
+    }
+    const Eigen::Matrix3d w = ldlt.solve(Eigen::Matrix3d::Identity());
+    h.block<3, 3>(3 * (i - 1), 3 * (i - 1)) += w;
+    g.segment<3>(3 * (i - 1)) += w * ((*poses)[first + i].t - path[i]);
+  }
+  // Acceleration at frame i: (d_{i+1} - d_i) / dt_{i+1} - (d_i - d_{i-1}) /
+  // dt_i over the mean of the two steps; coefficients c_{i-1}, c_i, c_{i+1}.
+  const double inv_sigma2 = 1.0 / (config_.between_acceleration_sigma *
+                                   config_.between_acceleration_sigma);
+  for (int i = 1; i < m; ++i) {
+    const double dt0 = time[i] - time[i - 1], dt1 = time[i + 1] - time[i];
+    const double mean = 0.5 * (dt0 + dt1);
+    const double c[3] = {1.0 / (dt0 * mean), -(1.0 / dt0 + 1.0 / dt1) / mean,
+                         1.0 / (dt1 * mean)};
+    for (int u = 0; u < 3; ++u) {
+      const int ju = i - 1 + u;  // Frame index of the u-th term.
+      if (ju < 1 || ju > m - 1) continue;
+      for (int v = 0; v < 3; ++v) {
+        const int jv = i - 1 + v;
+        if (jv < 1 || jv > m - 1) continue;
+        h.block<3, 3>(3 * (ju - 1), 3 * (jv - 1)).diagonal().array() +=
+            c[u] * c[v] * inv_sigma2;
+      }
+    }
+  }
+  const Eigen::LDLT<Eigen::MatrixXd> solver(h);
+  const Eigen::VectorXd d = solver.solve(g);
+  if (solver.info() != Eigen::Success || !d.allFinite()) return;
+  for (int i = 1; i < m; ++i) {
+    (*poses)[first + i].t = path[i] + d.segment<3>(3 * (i - 1));
+  }
 }
 
 std::vector<Eigen::Vector3d> StereoOdometry::MapPoints() const {

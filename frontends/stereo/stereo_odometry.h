@@ -86,6 +86,10 @@
 //  9. Finish: the points below min_point_observations are removed, then a
 //     global bundle adjustment over every keyframe and point
 //     (final_ba_iterations; 0: none), the first keyframe held fixed.
+// 10. Output (FrameTrajectory): every frame's pose from its reference
+//     keyframe (below); the positions of the frames between two keyframes
+//     smoothed against the keyframes' path (between_acceleration_sigma) or
+//     put on it (interpolate_between_keyframes).
 //
 // Every frame keeps its pose relative to its reference keyframe (the last
 // keyframe when it was tracked), so that every frame gets a pose in the
@@ -196,6 +200,19 @@ struct StereoOdometryConfig {
   // the two frames around a keyframe 0.039 m (README). Frames after the
   // last keyframe keep their tracking.
   bool interpolate_between_keyframes = false;
+  // Between the two (used when interpolate_between_keyframes is false): the
+  // positions of the frames between two keyframes smoothed (a fixed-interval
+  // smoother, step 10). Each frame's tracked position is a measurement with
+  // the covariance of its tracking (the pose-only refinement's Hessian over
+  // its matches, the points held exact); the prior is that the frames
+  // follow the screw path between the two keyframes (constant velocity in
+  // the moving frame) up to an acceleration: the deviation's second
+  // difference over consecutive frames, divided by their time steps, is
+  // N(0, between_acceleration_sigma^2) per axis (m/s^2). Where the tracking
+  // is precise or the motion changes, the measurements win; where the
+  // tracking is poor and the motion steady, the keyframes' path does. The
+  // rotation stays as tracked. 0: off.
+  double between_acceleration_sigma = 2.0;
   // Stereo points to start the map; frames before it stay at the origin
   // and count as lost.
   int min_initial_points = 50;
@@ -341,6 +358,9 @@ class StereoOdometry {
     TimeNs stamp = 0;
     int64_t keyframe = -1;  // Reference keyframe; -1: before the map.
     Pose3 keyframe_to_frame;
+    // Covariance of the tracked position, camera frame (right
+    // perturbation); zero when unknown (keyframes, lost frames).
+    Eigen::Matrix3d position_covariance = Eigen::Matrix3d::Zero();
   };
   struct Match {
     int keypoint;
@@ -383,6 +403,11 @@ class StereoOdometry {
   // The chain as a relative-pose factor from keyframe id - 1 to id.
   void AddKeyframeOdometry(int64_t id);
   Pose3 FramePose(const FrameRecord& record) const;
+  // Step 10: the positions of the frames [first, last) of frames_, all
+  // between keyframe a and a + 1, smoothed (between_acceleration_sigma);
+  // `poses` holds their FramePose and is updated in place.
+  void SmoothBetweenKeyframes(size_t first, size_t last,
+                              std::vector<Pose3>* poses) const;
   Eigen::Vector3d PointValue(int64_t point) const;
   std::vector<int64_t> LocalMapPoints(int64_t frame_index);
   std::vector<Match> SearchByProjection(const StereoFeatureFrame& frame,

@@ -44,7 +44,9 @@ StereoSimulation SimulateStereo(const StereoSimulationConfig& c) {
   StereoSimulation sim;
   const double length = c.loop
                             ? 2.0 * M_PI * c.loop_radius * std::min(1.0, c.laps)
-                            : c.step * (c.frames - 1);
+                            : c.step * (c.frames - 1 +
+                                        std::abs(c.speed_variation) *
+                                            c.speed_period / (2.0 * M_PI));
   // Points along the path (one lap of a loop), beyond its ends too.
   const double margin = c.loop ? 0.0 : c.max_depth;
   const int count = static_cast<int>((length + margin) * c.points_per_metre);
@@ -65,7 +67,9 @@ StereoSimulation SimulateStereo(const StereoSimulationConfig& c) {
   }
   const StereoCalibration& cal = c.calibration;
   for (int f = 0; f < c.frames; ++f) {
-    const Pose3 pose = PathPose(c, f * c.step);
+    const double w = 2.0 * M_PI / c.speed_period;
+    const double arc = c.step * (f + c.speed_variation / w * std::sin(w * f));
+    const Pose3 pose = PathPose(c, arc);
     sim.poses.push_back({SecondsToNs(0.1 * f), pose});
     StereoFeatureFrame frame;
     frame.index = f;

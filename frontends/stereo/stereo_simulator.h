@@ -52,6 +52,14 @@ struct StereoSimulationConfig {
   double loop_radius = 20.0;
   double laps = 1.0;             // Loop only: times round the circle.
   double weave_amplitude = 0.5;  // Straight path only: lateral weave (m).
+  // Speed: frame f is at arc length step * (f + speed_variation *
+  // speed_period / (2 pi) * sin(2 pi f / speed_period)), i.e. the distance
+  // per frame varies as step * (1 + speed_variation * cos(2 pi f /
+  // speed_period)) (stop and go; frames are 0.1 s apart, so the largest
+  // acceleration is step * speed_variation * 2 pi / speed_period / 0.01
+  // m/s^2). 0: constant speed.
+  double speed_variation = 0.0;
+  double speed_period = 20.0;  // Frames.
   double points_per_metre = 40.0;
   double min_lateral = 2.0, max_lateral = 15.0;
   double min_height = -4.0, max_height = 2.0;
