@@ -736,6 +736,10 @@ TEST(RgbdRunTest, BadInputFailsWithAMessageAndNoOutputs) {
        "  depth:\n    depth_factor: 0\n", "depth_factor must be > 0"},
       {"depth factor negative", [](const std::string&) {},
        "  depth:\n    depth_factor: -5000\n", "depth_factor must be > 0"},
+      {"negative acceleration sigma of the smoothing",
+       [](const std::string&) {},
+       "  keyframes:\n    between_acceleration_sigma: -1\n",
+       "between_acceleration_sigma >= 0"},
       {"stamps going backwards",
        [](const std::string& s) {
          WriteText(s + "/depth.txt",
