@@ -1054,14 +1054,20 @@ StereoFrameResult StereoOdometry::AddFrame(const StereoFeatureFrame& frame) {
     if (!result.lost && config_.between_acceleration_sigma > 0 &&
         !config_.interpolate_between_keyframes) {
       // The tracked position's covariance for the smoothing of step 10:
-      // the pose-only refinement's information over all its matches.
+      // the pose-only refinement's information over all its matches, the
+      // points held exact. They are not: each was made from a keyframe's
+      // stereo measurement with the same noise model as the frame's own, so
+      // the frame's pose relative to its keyframe is the difference of two
+      // such measurements, twice the variance (points refined over several
+      // keyframes have less; in simulation the actual error is larger
+      // still, see the README).
       Matrix6 information;
       TrackingInformation(frame, frame_matches, pose, false, &information);
       const Eigen::LDLT<Matrix6> ldlt(information);
       if (ldlt.info() == Eigen::Success && ldlt.vectorD().minCoeff() > 0 &&
           ldlt.vectorD().minCoeff() > 1e-9 * ldlt.vectorD().maxCoeff()) {
         record.position_covariance =
-            ldlt.solve(Matrix6::Identity()).topLeftCorner<3, 3>();
+            2.0 * ldlt.solve(Matrix6::Identity()).topLeftCorner<3, 3>();
       }
     }
   }
