@@ -64,14 +64,23 @@ bool CertifyIfAsked(Graph* graph, const OptimizerOptions& options,
     const double chi2_before = graph->Chi2();
     CertificateResult global;
     std::string why;
-    if (!SolveIsotropicGlobally(graph, certificate_options, &global, &why)) {
+    const bool relaxation_certified =
+        SolveIsotropicGlobally(graph, certificate_options, &global, &why);
+    if (!relaxation_certified && !global.rounded_uncertified) {
       std::printf("staircase: %s; keeping the LM solution\n", why.c_str());
     } else {
       seconds += global.seconds;
-      std::printf(
-          "staircase: relaxation certified at rank %d (isotropic optimum "
-          "%.10g) in %.3f s; rounded, then LM on the full objective\n",
-          global.rank, global.objective, global.seconds);
+      if (relaxation_certified) {
+        std::printf(
+            "staircase: relaxation certified at rank %d (isotropic optimum "
+            "%.10g) in %.3f s; rounded, then LM on the full objective\n",
+            global.rank, global.objective, global.seconds);
+      } else {
+        std::printf(
+            "staircase: %s (%.3f s); its last iterate rounded all the same, "
+            "then LM on the full objective, kept only if lower\n",
+            why.c_str(), global.seconds);
+      }
       OptimizerOptions quiet = options;
       quiet.verbose = false;
       const OptimizerSummary again = Optimize(graph, quiet, nullptr);

@@ -1534,10 +1534,10 @@ bool SolveIsotropicGlobally(Graph* graph, const CertificateOptions& options,
   result->refine_iterations = refine_iterations;
   result->factorizations = factorizations;
   result->seconds = SecondsSince(start);
-  if (!result->certified) {
+  const bool certified = result->certified;
+  if (!certified) {
     *error = "the staircase ended uncertified at rank " +
              std::to_string(result->rank);
-    return false;
   }
   // Rounding: the best rank-d approximation Sigma_d V_d^T = U_d^T Y of Y
   // (top eigenvectors of Y Y^T), the sign giving most blocks det > 0, each
@@ -1585,7 +1585,8 @@ bool SolveIsotropicGlobally(Graph* graph, const CertificateOptions& options,
       v[6] = q.w();
     }
   }
-  return true;
+  result->rounded_uncertified = !certified;
+  return certified;
 }
 
 }  // namespace slam

@@ -136,6 +136,9 @@ struct CertificateResult {
   double max_rotation_difference = 0.0;
   double rms_translation_difference = 0.0;
   Eigen::VectorXd eigenvector;  // Of lambda_min (d n), when not certified.
+  // SolveIsotropicGlobally only: the staircase's last iterate was rounded
+  // and written into the graph although it is not certified (see there).
+  bool rounded_uncertified = false;
 };
 
 // Smallest eigenvalue (and eigenvector) of S = Q - Lambda(Y_R) for a
@@ -223,7 +226,12 @@ bool CertifyGraph(const Graph& graph, const CertificateOptions& options,
 // certified, then rounding to SO(d)^n and the translations by least
 // squares, written into the graph (the fixed node, if any, keeps its pose).
 // *result describes the relaxation's certificate (its lower bound is a
-// lower bound for f). Returns false when the staircase ends uncertified.
+// lower bound for f). Returns false when the staircase ends uncertified;
+// its last iterate (the highest rank refined) is then rounded and written
+// all the same (result->rounded_uncertified): not a certified optimum, but
+// a start from which LM may reach a lower minimum than from the caller's
+// values, which the caller keeps otherwise. On other failures the graph is
+// unchanged.
 bool SolveIsotropicGlobally(Graph* graph, const CertificateOptions& options,
                             CertificateResult* result, std::string* error);
 

@@ -491,6 +491,52 @@ TEST(CertificateTest, TwistedCycleNotCertifiedThenEscaped) {
   EXPECT_TRUE(final_certificate.certified);
 }
 
+// A staircase that ends uncertified (here: no rank above d allowed) still
+// rounds its last iterate into the graph and says so, so that the caller
+// can run LM from it and keep the lower of the two minima (slam optimize
+// --certify does); a failure before the staircase leaves the graph as it
+// was.
+TEST(CertificateTest, UncertifiedStaircaseStillRoundsItsLastIterate) {
+  Graph graph;
+  const int n = 24;
+  BuildCycle2(n, 0.02, 0.01, 7, &graph, false);
+  for (int k = 0; k < n; ++k) {
+    graph.FindNode(Pose2Key(k))->value[2] += 2 * M_PI * k / n;
+  }
+  OptimizerOptions options;
+  options.verbose = false;
+  options.max_iterations = 200;
+  Optimize(&graph, options, nullptr);
+  const double local_chi2 = graph.Chi2();
+  CertificateOptions no_staircase;
+  no_staircase.max_rank_increase = 0;
+  CertificateResult result;
+  std::string error;
+  EXPECT_FALSE(SolveIsotropicGlobally(&graph, no_staircase, &result, &error));
+  EXPECT_NE(error.find("uncertified at rank 2"), std::string::npos) << error;
+  EXPECT_TRUE(result.rounded_uncertified);
+  EXPECT_FALSE(result.certified);
+  for (int k = 0; k < n; ++k) {
+    for (double v : graph.FindNode(Pose2Key(k))->value) {
+      EXPECT_TRUE(std::isfinite(v));
+    }
+  }
+  // The rounded rank-d critical point of the isotropic objective lies in
+  // the same (twisted) basin: LM from it returns to the same minimum.
+  Optimize(&graph, options, nullptr);
+  EXPECT_NEAR(graph.Chi2(), local_chi2, 1e-6 * local_chi2);
+
+  Graph refused;
+  BuildCycle2(8, 0.0, 0.0, 1, &refused);
+  refused.SetFixed(Pose2Key(0), true);
+  refused.SetFixed(Pose2Key(3), true);
+  const std::vector<double> before = refused.FindNode(Pose2Key(5))->value;
+  EXPECT_FALSE(
+      SolveIsotropicGlobally(&refused, CertificateOptions(), &result, &error));
+  EXPECT_FALSE(result.rounded_uncertified);
+  EXPECT_EQ(refused.FindNode(Pose2Key(5))->value, before);
+}
+
 TEST(CertificateTest, RefusesGraphsItDoesNotCover) {
   Graph graph;
   BuildCycle2(8, 0.0, 0.0, 1, &graph);
