@@ -53,6 +53,7 @@ bool LoadOptimizeConfig(const std::string& path, OptimizeConfig* config,
                        "nonmonotonic_steps",
                        "landmark_stages",
                        "gauss_newton_probe_iterations",
+                       "newton_under_way",
                        "max_factor_bytes",
                        "max_factor_flops",
                        "iterative_fallback",
@@ -86,6 +87,8 @@ bool LoadOptimizeConfig(const std::string& path, OptimizeConfig* config,
                     error) ||
       !ReadOptional(node, "gauss_newton_probe_iterations", path,
                     &o.gauss_newton_probe_iterations, error) ||
+      !ReadOptional(node, "newton_under_way", path, &o.newton_under_way,
+                    error) ||
       !ReadOptional(node, "max_factor_bytes", path, &o.max_factor_bytes,
                     error) ||
       !ReadOptional(node, "max_factor_flops", path, &o.max_factor_flops,
@@ -206,6 +209,8 @@ std::string OptimizeConfigToYaml(const OptimizeConfig& config) {
       << "  nonmonotonic_steps: " << (o.nonmonotonic_steps ? "true" : "false")
       << "\n"
       << "  gauss_newton_probe_iterations: " << o.gauss_newton_probe_iterations
+      << "\n"
+      << "  newton_under_way: " << (o.newton_under_way ? "true" : "false")
       << "\n"
       << "  linear_solver: " << o.linear_solver << "\n"
       << "  ordering: " << o.ordering << "\n"

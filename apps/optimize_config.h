@@ -51,7 +51,13 @@ namespace slam {
 
 struct OptimizeConfig {
   std::string init = "auto";
-  OptimizerOptions optimizer;
+  // The batch pose graph lets LM stop for Newton steps under way (see
+  // OptimizerOptions::newton_under_way; the frontends' solves keep it off).
+  OptimizerOptions optimizer = [] {
+    OptimizerOptions options;
+    options.newton_under_way = true;
+    return options;
+  }();
   bool repair_information = false;
   // Landmark SLAM from dead reckoning (init auto chose the spanning tree of
   // an odometry tree, landmarks from their observations): solve the first

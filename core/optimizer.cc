@@ -9,6 +9,7 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -18,6 +19,7 @@
 #include "ceres/ordered_groups.h"
 #include "ceres/problem.h"
 #include "ceres/solver.h"
+#include "core/lie.h"
 #include "core/manifolds.h"
 #include "core/openmp_scope.h"
 #include "core/ordering.h"
@@ -171,6 +173,22 @@ constexpr int kRejectionsBeforeProbe = 4;
 // default radius).
 constexpr double kRadiusAfterStall = 1e4;
 
+// LM's linear tail: kLinearStepsBeforeNewton accepted steps in a row whose
+// relative decrease is between kLinearRateLow and kLinearRateHigh times the
+// previous one's, from iteration kIterationsBeforeLinearTail on (the
+// benchmark graphs converge within 7 iterations, except GTSAM's
+// pose3example: 30, halving its decrease per step). A 3D grid world with
+// 0.2 rad rotation noise: LM (Gauss-Newton: the radius grows to 1e16)
+// halves its decrease per step from iteration 10 to 27.
+constexpr int kIterationsBeforeLinearTail = 8;
+constexpr int kLinearStepsBeforeNewton = 3;
+constexpr double kLinearRateLow = 0.25;
+constexpr double kLinearRateHigh = 0.9;
+// Probes (and LM runs after them) at most per solve.
+constexpr int kMaxProbes = 3;
+// Relative cost changes below this are rounding (converged), not a tail.
+constexpr double kRoundingLevel = 1e-10;
+
 class FirstStepWatcher : public ceres::IterationCallback {
  public:
   ceres::CallbackReturnType operator()(
@@ -178,6 +196,40 @@ class FirstStepWatcher : public ceres::IterationCallback {
     if (s.iteration == 0) return ceres::SOLVER_CONTINUE;
     if (s.step_is_successful) {
       done_ = true;
+      rejections_in_a_row_ = 0;
+      // Linear convergence: the relative decrease falls by a steady factor
+      // per accepted step (Gauss-Newton's rate where the second-order term
+      // it drops is of the order of J^T J: about halving).
+      const double relative = s.cost_change / (s.cost + s.cost_change);
+      const double rate = relative / previous_relative_;
+      previous_relative_ = relative;
+      linear_steps_ = rate > kLinearRateLow && rate < kLinearRateHigh
+                          ? linear_steps_ + 1
+                          : 0;
+      if (newton_midway_ && s.iteration >= kIterationsBeforeLinearTail &&
+          linear_steps_ >= kLinearStepsBeforeNewton &&
+          relative > kRoundingLevel) {
+        stalled_midway_ = true;
+        midway_reason_ = "LM converges linearly";
+        return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
+      }
+      return ceres::SOLVER_CONTINUE;
+    }
+    // Under way, kRejectionsBeforeProbe rejections in a row: Gauss-Newton's
+    // model (LM's, damped) no longer predicts the cost, LM's radius has
+    // shrunk 1024 times, and LM crawls from there (a grid world with 0.35
+    // rad heading noise: 8 rejections after 3 accepted steps, then 45 short
+    // steps). Where the probe takes Newton steps (pose graphs), LM stops
+    // for them.
+    if (done_) {
+      // Rejections at the rounding level of the cost are convergence.
+      const bool significant = -s.cost_change > kRoundingLevel * s.cost;
+      rejections_in_a_row_ = significant ? rejections_in_a_row_ + 1 : 0;
+      if (newton_midway_ && rejections_in_a_row_ == kRejectionsBeforeProbe) {
+        stalled_midway_ = true;
+        midway_reason_ = "LM rejected 4 steps in a row";
+        return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
+      }
       return ceres::SOLVER_CONTINUE;
     }
     // The second rejected step equal to the first (same length, same
@@ -201,11 +253,31 @@ class FirstStepWatcher : public ceres::IterationCallback {
     }
     return ceres::SOLVER_CONTINUE;
   }
+  // For LM's run after a probe: watches for a stall or a linear tail under
+  // way only.
+  void WatchUnderWay() {
+    done_ = true;
+    rejected_ = false;
+    stalled_midway_ = false;
+    rejections_in_a_row_ = 0;
+    linear_steps_ = 0;
+    previous_relative_ = 0.0;
+  }
+  // Lets LM stop for the probe after rejections in a row under way too.
+  void set_newton_midway(bool newton_midway) { newton_midway_ = newton_midway; }
+  bool stalled_midway() const { return stalled_midway_; }
+  const char* midway_reason() const { return midway_reason_; }
   bool first_steps_rejected() const { return rejected_; }
   int rejections() const { return rejections_; }
 
  private:
   bool done_ = false;  // A step was accepted: LM is under way.
+  bool newton_midway_ = false;
+  bool stalled_midway_ = false;
+  int rejections_in_a_row_ = 0;
+  double previous_relative_ = 0.0;
+  int linear_steps_ = 0;
+  const char* midway_reason_ = "";
   bool rejected_ = false;
   int rejections_ = 0;
   double first_step_norm_ = 0.0;
@@ -278,6 +350,14 @@ int NewtonStep(const Eigen::VectorXd& g, const Factorization& preconditioner,
   return products;
 }
 
+// Whether the probe's Hessian products know the block's frame transport
+// (hessian_times in GaussNewtonProbe): Euclidean, SE(2) and SE(3) blocks.
+bool NewtonTransports(const ceres::Manifold* manifold) {
+  return manifold == nullptr ||
+         dynamic_cast<const SE2Manifold*>(manifold) != nullptr ||
+         dynamic_cast<const SE3Manifold*>(manifold) != nullptr;
+}
+
 struct ProbeResult {
   int cg_iterations = 0;   // Hessian products of the Newton steps.
   bool converged = false;  // Relative decrease below the tolerance.
@@ -300,6 +380,7 @@ struct ProbeResult {
 ProbeResult GaussNewtonProbe(ceres::Problem* problem,
                              const std::vector<double*>& blocks,
                              int max_iterations, double tolerance,
+                             bool newton_from_start, bool newton_on_se3,
                              std::ostream* progress) {
   ProbeResult result;
   std::vector<int> sizes, tangent_sizes, offsets;
@@ -361,14 +442,15 @@ ProbeResult GaussNewtonProbe(ceres::Problem* problem,
   std::vector<double> here = saved;  // The current values, for Newton.
   double radius = 0.0;               // Newton's trust region; 0: not yet set.
   // Newton steps where the Hessian products are exact up to the difference:
-  // 2D poses and Euclidean blocks (other manifolds would need their own
-  // frame transport, see hessian_times).
-  std::vector<bool> se2(blocks.size(), false);
+  // 2D and 3D poses and Euclidean blocks (other manifolds would need their
+  // own frame transport, see hessian_times).
+  std::vector<bool> se2(blocks.size(), false), se3(blocks.size(), false);
   bool newton = true;
   for (size_t b = 0; b < blocks.size(); ++b) {
     const ceres::Manifold* manifold = problem->GetManifold(blocks[b]);
     se2[b] = dynamic_cast<const SE2Manifold*>(manifold) != nullptr;
-    newton = newton && (manifold == nullptr || se2[b]);
+    se3[b] = dynamic_cast<const SE3Manifold*>(manifold) != nullptr;
+    newton = newton && NewtonTransports(manifold) && (newton_on_se3 || !se3[b]);
   }
   Eigen::Index analysed_nonzeros = 0;
   for (int it = 1; it <= max_iterations; ++it) {
@@ -395,7 +477,7 @@ ProbeResult GaussNewtonProbe(ceres::Problem* problem,
     // such Gauss-Newton step. Above the start (Gauss-Newton's overshoot from
     // the initial guess) plain Gauss-Newton steps, as before.
     bool newton_taken = false;
-    if (newton && cost < start_cost) {
+    if (newton && (cost < start_cost || newton_from_start)) {
       copy_out(&here);
       const auto hessian_times = [&](const Eigen::VectorXd& v) {
         // Forward difference of the gradient along v, each unknown moved by
@@ -414,6 +496,18 @@ ProbeResult GaussNewtonProbe(ceres::Problem* problem,
         // translation axes turned by eps v_theta.
         Eigen::Map<Eigen::VectorXd> g_plus(gradient.data(), gradient.size());
         for (size_t b = 0; b < blocks.size(); ++b) {
+          if (se3[b]) {
+            // SE(3): (t + R(q) rho, q Exp(phi)); the translation gradient
+            // turned by Exp(eps v_phi), the rotation's through the right
+            // Jacobian: q Exp(phi + d) ~ q Exp(phi) Exp(Jr(phi) d).
+            const Eigen::Vector3d phi = eps * v.segment<3>(offsets[b] + 3);
+            auto rho = g_plus.segment<3>(offsets[b]);
+            auto rot = g_plus.segment<3>(offsets[b] + 3);
+            rho = QuaternionExp<double>(phi).toRotationMatrix() *
+                  Eigen::Vector3d(rho);
+            rot = RightJacobianSO3(phi).transpose() * Eigen::Vector3d(rot);
+            continue;
+          }
           if (!se2[b]) continue;
           const double angle = eps * v(offsets[b] + 2);
           const double c = std::cos(angle), s = std::sin(angle);
@@ -463,6 +557,9 @@ ProbeResult GaussNewtonProbe(ceres::Problem* problem,
       if (newton_ok && cost_after(gauss_newton) < newton_cost) {
         newton_ok = false;
       }
+      // From LM's values under way the Gauss-Newton step is the one LM
+      // rejected: the probe ends when Newton's does not lower the cost.
+      if (!newton_ok && newton_from_start) break;
       if (!newton_ok) dx = gauss_newton;
       newton_taken = newton_ok;
     }
@@ -734,6 +831,15 @@ OptimizerSummary Optimize(Graph* graph, const OptimizerOptions& options,
       options.solver == SolverKind::kLevenbergMarquardt && !landmarks;
   FirstStepWatcher watcher;
   if (probe_allowed) solver_options.callbacks.push_back(&watcher);
+  // The probe's Newton steps need poses (or Euclidean blocks) only.
+  bool newton_possible = true;
+  for (const auto& [key, node] : graph->nodes()) {
+    double* block = node->value.data();
+    if (!problem.HasParameterBlock(block)) continue;
+    newton_possible =
+        newton_possible && NewtonTransports(problem.GetManifold(block));
+  }
+  watcher.set_newton_midway(options.newton_under_way && newton_possible);
 
   ceres::Solver::Summary ceres_summary;
   const auto add_times = [&summary](const ceres::Solver::Summary& s) {
@@ -748,7 +854,17 @@ OptimizerSummary Optimize(Graph* graph, const OptimizerOptions& options,
   }
   add_times(ceres_summary);
   int iterations = static_cast<int>(ceres_summary.iterations.size()) - 1;
-  if (watcher.first_steps_rejected()) {
+  // The probe, and LM again from its values: up to kMaxProbes times, LM
+  // watched for a stall or a linear tail again in between. All of them
+  // share options.max_iterations (a caller's budget, such as the laser's
+  // incremental solves of 10 iterations, holds for the whole solve).
+  bool budget_spent = false;
+  for (int probes = 1;
+       watcher.first_steps_rejected() || watcher.stalled_midway(); ++probes) {
+    if (iterations >= options.max_iterations) {
+      budget_spent = true;
+      break;
+    }
     std::vector<double*> free_blocks;
     for (const auto& [key, node] : graph->nodes()) {
       double* block = node->value.data();
@@ -759,16 +875,23 @@ OptimizerSummary Optimize(Graph* graph, const OptimizerOptions& options,
       }
     }
     std::ostream* log = options.verbose ? progress : nullptr;
+    const bool midway = watcher.stalled_midway();
     if (log != nullptr) {
-      *log << "LM rejected its first " << watcher.rejections()
-           << " steps: plain Gauss-Newton steps\n";
+      if (midway) {
+        *log << watcher.midway_reason() << ": Newton steps\n";
+      } else {
+        *log << "LM rejected its first " << watcher.rejections()
+             << " steps: plain Gauss-Newton steps\n";
+      }
     }
     ProbeResult probe;
     {
       const SerialOpenMpScope serial_openmp;
       probe = GaussNewtonProbe(&problem, free_blocks,
-                               options.gauss_newton_probe_iterations,
-                               options.function_tolerance, log);
+                               std::min(options.gauss_newton_probe_iterations,
+                                        options.max_iterations - iterations),
+                               options.function_tolerance, midway,
+                               options.newton_under_way, log);
     }
     if (log != nullptr) {
       *log << (probe.converged ? "Gauss-Newton converged; LM confirms\n"
@@ -777,29 +900,44 @@ OptimizerSummary Optimize(Graph* graph, const OptimizerOptions& options,
                : probe.improved ? "Gauss-Newton lowered the cost; LM goes on\n"
                                 : "Gauss-Newton diverged; LM from the start\n");
     }
-    summary.gauss_newton_iterations = probe.iterations;
+    summary.gauss_newton_iterations += probe.iterations;
     // Gauss-Newton steps failed from the values LM resumes at: LM starts
     // from Ceres' default radius instead of an (almost) Gauss-Newton step,
     // which it would reject again and again (seven rejections from 1e12).
-    if (probe.stalled) {
+    // Likewise after Newton steps from LM's values under way (LM had
+    // shrunk its radius there).
+    if (probe.stalled || midway) {
       solver_options.initial_trust_region_radius = std::min(
           solver_options.initial_trust_region_radius, kRadiusAfterStall);
     }
-    solver_options.callbacks.erase(
-        std::remove(solver_options.callbacks.begin(),
-                    solver_options.callbacks.end(), &watcher),
-        solver_options.callbacks.end());
+    watcher.WatchUnderWay();  // Also clears the flags that ended LM.
+    if (probes >= kMaxProbes) {
+      solver_options.callbacks.erase(
+          std::remove(solver_options.callbacks.begin(),
+                      solver_options.callbacks.end(), &watcher),
+          solver_options.callbacks.end());
+    }
+    iterations += probe.iterations;
+    if (iterations >= options.max_iterations) {
+      budget_spent = true;
+      break;
+    }
+    solver_options.max_num_iterations = options.max_iterations - iterations;
     const SerialOpenMpScope serial_openmp;
     ceres::Solve(solver_options, &problem, &ceres_summary);
     add_times(ceres_summary);
-    iterations += probe.iterations +
-                  static_cast<int>(ceres_summary.iterations.size()) - 1;
+    iterations += static_cast<int>(ceres_summary.iterations.size()) - 1;
   }
 
   summary.iterations = iterations;
-  summary.converged = ceres_summary.termination_type == ceres::CONVERGENCE;
+  summary.converged =
+      !budget_spent && ceres_summary.termination_type == ceres::CONVERGENCE;
   summary.usable = ceres_summary.IsSolutionUsable();
-  summary.termination = ceres_summary.message;
+  summary.termination =
+      budget_spent ? "Maximum number of iterations reached (LM and the "
+                     "probe's steps together): " +
+                         std::to_string(iterations)
+                   : ceres_summary.message;
   summary.full_report = ceres_summary.FullReport();
   summary.linear_solver =
       ceres::LinearSolverTypeToString(ceres_summary.linear_solver_type_used);

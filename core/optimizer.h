@@ -88,13 +88,26 @@ struct OptimizerOptions {
   // LM alone crawls after such a radius collapse: dpgo's Intel from the
   // chordal guess took 91 iterations (Gauss-Newton: 4), M3500 with 0.2 rad
   // rotation noise 29. Other graphs run as before. 0 disables.
-  // Once below the start, on 2D pose graphs, the probe's steps are truncated
-  // Newton steps (the full Hessian by conjugate gradients preconditioned
-  // with the Gauss-Newton factorization, in a trust region) or the
-  // Gauss-Newton step when that is lower: with 0.3 rad of heading noise
-  // Gauss-Newton's model (and LM's) converges linearly near the optimum
-  // (27 iterations on a simulated grid world), Newton quadratically (9).
+  // Once below the start, on 2D and 3D pose graphs, the probe's steps are
+  // truncated Newton steps (the full Hessian by conjugate gradients
+  // preconditioned with the Gauss-Newton factorization, in a trust region)
+  // or the Gauss-Newton step when that is lower: with 0.3 rad of heading
+  // noise Gauss-Newton's model (and LM's) converges linearly near the
+  // optimum (27 iterations on a simulated grid world), Newton quadratically
+  // (9). SE(3) blocks take Newton steps only with newton_under_way.
   int gauss_newton_probe_iterations = 20;
+  // Pose graphs (2D and 3D) under LM: LM also stops for the probe's Newton
+  // steps under way, after 4 rejections in a row or on a linear tail (3
+  // accepted steps in a row whose relative decrease falls by a steady
+  // factor, from iteration 8), also after a probe (at most 3 probes), and
+  // the probe's Newton steps work on SE(3) blocks too: a 3D lattice with
+  // 0.25 rad of rotation noise 42 -> 13 iterations. On for the batch pose
+  // graph (`slam optimize`, OptimizeConfig); off here and in the frontends'
+  // solves: the laser's loop decisions were seen to hang on where a loosely
+  // stopped solve ends (LaserSlamTest's biased revisit, clang sanitizer
+  // build, 2.7 m off with it), and converging every laser solve to rounding
+  // instead cost 35 % of Intel's wall time (see the README, pose graphs).
+  bool newton_under_way = false;
   // Ceres threads. One by default: on the 2-core machines measured, a second
   // thread made every benchmark slower (its hand-offs cost more than the
   // evaluation work it shares): intel 49 -> 42 ms, city10000 0.37 -> 0.34 s,
@@ -110,7 +123,7 @@ struct OptimizerSummary {
   double initial_robust_chi2 = 0.0;  // sum rho(e^T Omega e) before.
   double final_robust_chi2 = 0.0;
   int iterations = 0;               // Gauss-Newton probe + Ceres iterations.
-  int gauss_newton_iterations = 0;  // Of which the Gauss-Newton probe's.
+  int gauss_newton_iterations = 0;  // Of which the probes' (all of them).
   bool converged = false;           // Stopped on a convergence test.
   bool usable = false;  // Result usable (converged or hit the limit).
   double solve_seconds = 0.0;

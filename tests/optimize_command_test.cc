@@ -597,6 +597,8 @@ TEST(OptimizeCommandTest, DumpConfigRoundTrips) {
   EXPECT_EQ(defaults.rfind("optimize:\n", 0), 0u) << defaults;
   EXPECT_TRUE(Contains(defaults, "  solver: lm\n")) << defaults;
   EXPECT_TRUE(Contains(defaults, "  init: auto\n")) << defaults;
+  // The batch pose graph's LM stops for Newton steps under way.
+  EXPECT_TRUE(Contains(defaults, "  newton_under_way: true\n")) << defaults;
   ASSERT_EQ(RunSlam("optimize --config " + tmp + "/a.yaml --dump_config > " +
                     tmp + "/b.yaml"),
             0);
@@ -624,6 +626,7 @@ TEST(OptimizeCommandTest, DumpConfigRoundTrips) {
   // Values only the file can set survive the round trip too.
   WriteText(tmp + "/e.yaml",
             "optimize:\n  function_tolerance: 1e-7\n  num_threads: 1\n"
+            "  newton_under_way: false\n"
             "  initial_trust_region_radius: 1000.5\n"
             "  robust:\n    prior: huber:0.25\n    loop_closure: dcs:3\n");
   ASSERT_EQ(RunSlam("optimize --config " + tmp + "/e.yaml --dump_config > " +
@@ -632,6 +635,7 @@ TEST(OptimizeCommandTest, DumpConfigRoundTrips) {
   const std::string file_values = ReadText(tmp + "/f.yaml");
   for (const char* line :
        {"  function_tolerance: 9.9999999999999995e-08\n", "  num_threads: 1\n",
+        "  newton_under_way: false\n",
         "  initial_trust_region_radius: 1000.5\n", "    prior: huber:0.25\n",
         "    loop_closure: dcs:3\n", "    odometry: none\n"}) {
     EXPECT_TRUE(Contains(file_values, line)) << line << " in\n" << file_values;

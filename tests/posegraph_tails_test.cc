@@ -1,7 +1,7 @@
 // No slow tails on pose graphs with heavy heading noise (issue 27): grid
 // worlds from the simulator (Manhattan-like, as M3500) whose heading
 // measurements carry 0.2-0.3 rad of noise, solved from the default start
-// (chordal initialization, default optimizer options), must reach the
+// (chordal initialization, slam optimize's optimizer options), must reach the
 // optimum of a long LM run within a few iterations. The failure this guards
 // against: LM rejects its first steps from the chordal start, the
 // Gauss-Newton probe overshoots, and LM crawls for ~100 iterations.
@@ -28,17 +28,21 @@ struct Case {
   // headings carry sigma_rotation (as M3500 with 0.2 rad of noise added to
   // its angles, information kept).
   bool overconfident;
+  // The lattice: grid2d (SE(2)) or grid3d (SE(3), rotation noise per axis).
+  const char* world = "grid2d";
+  int num_poses = 2500;
+  int grid_size = 35;
 };
 
 // The simulated graph with the chordal start; node 0 fixed.
 Graph MakeGraph(const Case& c) {
   SimulationConfig config;
   config.seed = c.seed;
-  config.world.type = "grid2d";
+  config.world.type = c.world;
   // M3500-like: a large lattice, about one loop closure per two poses,
   // 0.15 m translation noise.
-  config.world.num_poses = 2500;
-  config.world.grid_size = 35;
+  config.world.num_poses = c.num_poses;
+  config.world.grid_size = c.grid_size;
   config.loop_closures.probability = 0.5;
   config.odometry.sigma_translation = 0.15;
   config.loop_closures.noise.sigma_translation = 0.15;
@@ -69,11 +73,13 @@ Graph MakeGraph(const Case& c) {
 }
 
 // Solves the case from the default start and from a long LM run; requires
-// <= 15 iterations and the long run's optimum (1e-6 relative).
-void ExpectFewIterationsToTheOptimum(const Case& c) {
+// at most `max_iterations` and the long run's optimum (1e-6 relative).
+void ExpectFewIterationsToTheOptimum(const Case& c, int max_iterations = 15) {
   Graph fast = MakeGraph(c);
   Graph reference = MakeGraph(c);
+  // slam optimize's options (OptimizeConfig): Newton steps under way.
   OptimizerOptions options;
+  options.newton_under_way = true;
   options.verbose = false;
   const OptimizerSummary summary = Optimize(&fast, options, nullptr);
   // The optimum by a long run: LM alone, tight tolerances.
@@ -85,14 +91,14 @@ void ExpectFewIterationsToTheOptimum(const Case& c) {
   long_run.parameter_tolerance = 1e-12;
   const OptimizerSummary best = Optimize(&reference, long_run, nullptr);
   std::printf(
-      "seed %d sigma %.2f%s: chordal chi2 %.6g, default %d iterations "
+      "%s seed %d sigma %.2f%s: chordal chi2 %.6g, default %d iterations "
       "(%d Gauss-Newton/Newton) -> %.10g; long run %d -> %.10g\n",
-      static_cast<int>(c.seed), c.sigma_rotation,
+      c.world, static_cast<int>(c.seed), c.sigma_rotation,
       c.overconfident ? " (overconfident)" : "", summary.initial_chi2,
       summary.iterations, summary.gauss_newton_iterations, summary.final_chi2,
       best.iterations, best.final_chi2);
   EXPECT_TRUE(summary.converged) << summary.termination;
-  EXPECT_LE(summary.iterations, 15) << "seed " << c.seed;
+  EXPECT_LE(summary.iterations, max_iterations) << "seed " << c.seed;
   EXPECT_NEAR(summary.final_chi2, best.final_chi2, 1e-6 * best.final_chi2)
       << "seed " << c.seed;
 }
@@ -116,6 +122,52 @@ TEST(PoseGraphTailsTest, ConsistentHeavyHeadingNoiseHasNoLinearTail) {
       {4, 0.3, false}, {1, 0.25, false}, {5, 0.3, true},
   };
   for (const Case& c : cases) ExpectFewIterationsToTheOptimum(c);
+}
+
+// 0.35 rad of heading noise, seed 7: LM accepts its first three steps from
+// the chordal start, then rejects eight in a row (Gauss-Newton's model no
+// longer predicts the cost) and crawls with a small radius: 57 iterations,
+// 5.6e-7 above the long run's optimum. LM now stops after four rejections in
+// a row under way and the probe takes Newton steps from its values: 22.
+// Over the 15 of issue 27 (the 0.35 rad family has nearly degenerate minima
+// where every local method converges slowly; see the README's tails
+// paragraph), so the bound here is the one this mechanism reaches.
+TEST(PoseGraphTailsTest, RejectionsInARowUnderWayTakeNewtonSteps) {
+  ExpectFewIterationsToTheOptimum({7, 0.35, false}, 25);
+}
+
+// LM's linear tail on a 3D lattice (1000 poses, 0.25 rad of rotation noise
+// per axis, seed 1): LM's radius grows to Gauss-Newton's and the decrease
+// falls by a steady factor per step, 42 iterations. LM now stops once its
+// decrease falls linearly (three steps in a row, from iteration 8 on) and
+// the probe takes Newton steps, with the SE(3) frame transport: 13.
+TEST(PoseGraphTailsTest, LinearTailOnA3DLatticeTakesNewtonSteps) {
+  ExpectFewIterationsToTheOptimum({1, 0.25, false, "grid3d", 1000, 10});
+}
+
+// A caller's iteration budget holds for the whole solve, LM's runs and the
+// probes' Newton steps together (the laser's incremental solves allow 10):
+// on the 3D lattice above LM rejects its first steps and the probe takes
+// 11 steps: the solve took 13 iterations with max_iterations 5, 10 or 12
+// when the probe and each LM run after it had a budget of their own.
+TEST(PoseGraphTailsTest, IterationBudgetHoldsAcrossProbes) {
+  const Case c{1, 0.25, false, "grid3d", 1000, 10};
+  for (const int budget : {5, 10, 12}) {
+    Graph graph = MakeGraph(c);
+    OptimizerOptions options;
+    options.verbose = false;
+    options.max_iterations = budget;
+    const OptimizerSummary summary = Optimize(&graph, options, nullptr);
+    std::printf("budget %d: %d iterations (%d probe steps), %s\n", budget,
+                summary.iterations, summary.gauss_newton_iterations,
+                summary.termination.c_str());
+    EXPECT_LE(summary.iterations, budget) << summary.termination;
+    EXPECT_TRUE(summary.usable) << summary.termination;
+    EXPECT_LT(summary.final_chi2, summary.initial_chi2);
+    if (summary.iterations == budget) {
+      EXPECT_FALSE(summary.converged) << summary.termination;
+    }
+  }
 }
 
 }  // namespace
