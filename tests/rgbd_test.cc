@@ -23,6 +23,7 @@
 #include "core/optimizer.h"
 #include "datasets/tum_rgbd_io.h"
 #include "factors/pose_factors.h"
+#include "frontends/bow/loop_detector.h"
 #include "frontends/rgbd/rgbd_camera.h"
 #include "frontends/rgbd/rgbd_features.h"
 #include "frontends/stereo/stereo_loop_closing.h"
@@ -245,7 +246,15 @@ class FrameListSource : public VisualFrameSource {
 // A room-sized world seen by a Freiburg 1 camera: keypoints rendered with
 // the camera's distortion, depth read at the measured pixel with noise
 // sigma_z = depth_noise * z^2 (a structured-light sensor).
-double RunSyntheticRgbd(double depth_noise, bool use_depth) {
+// With `loops`, loop closure is on and the run's log lines and trajectory
+// are returned there.
+struct LoopsRun {
+  std::vector<std::string> log;
+  std::vector<StampedPose> trajectory;
+  int keyframes = 0;
+};
+double RunSyntheticRgbd(double depth_noise, bool use_depth,
+                        LoopsRun* loops = nullptr) {
   RgbdCamera camera;
   TumCameraPreset("freiburg1", &camera);
   RgbdConfig rgbd;
@@ -310,11 +319,21 @@ double RunSyntheticRgbd(double depth_noise, bool use_depth) {
   }
   FrameListSource source(std::move(frames), extractor.calibration(), 640, 480);
   VisualSlamConfig config;
-  config.loop_closure.enabled = false;
+  config.loop_closure.enabled = loops != nullptr;
   VisualSlam slam(config, &source);
   VisualSlamResult result;
   std::string error;
-  const bool ran = slam.Run({}, &result, &error);
+  VisualSlamCallbacks callbacks;
+  if (loops != nullptr) {
+    callbacks.log = [loops](const std::string& line) {
+      loops->log.push_back(line);
+    };
+  }
+  const bool ran = slam.Run(callbacks, &result, &error);
+  if (loops != nullptr) {
+    loops->trajectory = result.trajectory;
+    loops->keyframes = result.stats.keyframes;
+  }
   if (!use_depth) {
     // Without depth no keypoint is stereo-like: the map never starts, and
     // the run says so early instead of returning an untracked path.
@@ -341,6 +360,32 @@ TEST(RgbdSlamTest, SyntheticRgbdWorldRecoversThePath) {
   // measures the depth.
   const double no_depth = RunSyntheticRgbd(0.0015, false);
   EXPECT_GT(no_depth, 0.1);
+}
+
+// A run with fewer keyframes than a loop needs (bow::MinKeyframesForALoop:
+// every query's candidates lie more than exclude_recent keyframes back)
+// trains no vocabulary and runs no detection, and ends as the run without
+// loop closure does, pose for pose.
+TEST(RgbdSlamTest, AShortRunSkipsTheLoopClosingItCannotUse) {
+  LoopsRun with_loops;
+  RunSyntheticRgbd(0.0015, true, &with_loops);
+  const int needed = bow::MinKeyframesForALoop(bow::LoopDetectorConfig());
+  ASSERT_GT(with_loops.keyframes, 1);
+  ASSERT_LT(with_loops.keyframes, needed);
+  bool skipped = false;
+  for (const std::string& line : with_loops.log) {
+    EXPECT_EQ(line.find("vocabulary"), std::string::npos) << line;
+    skipped = skipped || line.find("loop closure: none possible among " +
+                                   std::to_string(with_loops.keyframes) +
+                                   " keyframes") != std::string::npos;
+  }
+  EXPECT_TRUE(skipped);
+  // The same world without loop closure (RunSyntheticRgbd's default): the
+  // same error (two runs of either kind differ in the last bits, from run
+  // to run, so not to the bit).
+  LoopsRun again;
+  const double without = RunSyntheticRgbd(0.0015, true);
+  EXPECT_NEAR(without, RunSyntheticRgbd(0.0015, true, &again), 1e-12 * without);
 }
 
 TEST(CaptureClockTest, RecoversTheClockUnderJitterAndADroppedFrame) {

@@ -24,6 +24,11 @@ const char* LoopStatusName(LoopStatus status) {
   return "unknown";
 }
 
+int MinKeyframesForALoop(const LoopDetectorConfig& config) {
+  // The query of index i has candidates 0..i-1-exclude_recent (Process).
+  return config.exclude_recent + 2;
+}
+
 LoopDetector::LoopDetector(const Vocabulary* vocabulary,
                            const LoopDetectorConfig& config)
     : vocabulary_(vocabulary), config_(config), database_(vocabulary) {}

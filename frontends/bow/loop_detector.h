@@ -127,6 +127,12 @@ struct LoopResult {
   Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();
 };
 
+// The fewest keyframes among which a loop can be found: a query's
+// candidates are the keyframes more than exclude_recent before it, so with
+// fewer every query is kTooEarly, whatever the images (callers may skip the
+// vocabulary and the detection then: the result is the same).
+int MinKeyframesForALoop(const LoopDetectorConfig& config);
+
 class LoopDetector {
  public:
   // The vocabulary must outlive the detector.

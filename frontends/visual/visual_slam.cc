@@ -134,6 +134,27 @@ bool VisualSlam::CloseLoops(const VisualSlamCallbacks& callbacks,
   const auto loop_start = Clock::now();
   const double load_seconds = result->vocabulary_seconds;  // Read in Run.
   const LoopsConfig& loops = config_.loops;
+  // Too few keyframes for any query to have a candidate (the keyframes
+  // just before a query never are): no vocabulary to train, no detection;
+  // the outcome is the same as theirs, no loop. A short run's whole time
+  // counts (20 KITTI frames, 10 keyframes: training was a sixth of it).
+  const size_t needed =
+      static_cast<size_t>(bow::MinKeyframesForALoop(loops.detector));
+  if (odometry_->NumKeyframes() < needed) {
+    result->loop_seconds =
+        SecondsSince(loop_start) + result->vocabulary_seconds;
+    if (callbacks.log) {
+      char line[256];
+      std::snprintf(line, sizeof(line),
+                    "loop closure: none possible among %zu keyframes (a "
+                    "query's candidates are more than exclude_recent = %d "
+                    "keyframes back: %zu needed); not run",
+                    odometry_->NumKeyframes(), loops.detector.exclude_recent,
+                    needed);
+      callbacks.log(line);
+    }
+    return true;
+  }
   bow::Vocabulary& vocabulary = *loaded;
   result->vocabulary_source = loops.vocabulary;
   if (loops.vocabulary.empty()) {
