@@ -325,8 +325,12 @@ int RunInertialCommand(const std::vector<std::string>& args) {
       JsonObject json = EvalResultJson(result, settings);
       if (e.covariances != nullptr && FLAGS_gt == "input") {
         JsonObject nees;
-        if (!EvaluateNees(e.name, *e.states, *e.covariances, data.ground_truth,
-                          NeesOptions(), std::cout, &nees, &error)) {
+        const InertialRun& run = run_window ? window : batch;
+        if (!EvaluateNees(
+                e.name, *e.states, *e.covariances, data.ground_truth,
+                NeesOptions(),
+                run.yaw_observable ? run.yaw_observable_after_seconds : -1.0,
+                std::cout, &nees, &error)) {
           std::cerr << "slam inertial: " << error << "\n";
           return 1;
         }

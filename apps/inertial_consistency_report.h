@@ -43,14 +43,19 @@ bool ParseCovarianceCsv(const std::string& text, std::vector<TimeNs>* stamps,
 // options.skip_seconds, raw and after the yaw-only alignment of the
 // reference rotation (EstimateYawOffset); prints a short table to `out` and
 // returns the report object:
-//   {keyframes, skip_seconds, position|pose|velocity|bias: {mean, median,
-//    dof}, yaw_aligned: {yaw_offset_deg, position|pose|velocity|bias: ...}}
+//   {keyframes, skip_seconds,
+//    position|pose|velocity|bias|gyro_bias|accel_bias: {mean, median, dof},
+//    yaw_aligned: {yaw_offset_deg, position|...: ...},
+//    after_yaw: {keyframes, skip_seconds, position|...: ...}}
+// after_yaw (when yaw_known_seconds >= 0, the seconds after the start at
+// which the heading became known) counts only the keyframes from there (and
+// after skip_seconds).
 bool EvaluateNees(const std::string& name,
                   const std::vector<InertialState>& states,
                   const std::vector<Eigen::MatrixXd>& covariances,
                   const std::vector<InertialGroundTruth>& reference,
-                  const NeesOptions& options, std::ostream& out,
-                  JsonObject* json, std::string* error);
+                  const NeesOptions& options, double yaw_known_seconds,
+                  std::ostream& out, JsonObject* json, std::string* error);
 
 }  // namespace slam
 

@@ -8,8 +8,10 @@ the yaw became known (s after the start; empty when never),
 median and 99th-percentile per-update time of the window against the target,
 the batch time, and with ground truth that has biases (`gt: input` entries,
 simulated runs) the mean NEES of the window's real-time estimate after the
-first 10 s (position 3, pose 6, bias 6 dof expected; pose also after the
-yaw-only alignment of the reference, see apps/inertial_consistency_report.h).
+first 10 s (position 3, pose 6, bias 6 dof expected, the bias also as gyro
+and accelerometer biases, 3 each, and over the keyframes after the yaw became
+known alone; pose also after the yaw-only alignment of the reference, see
+apps/inertial_consistency_report.h).
 An entry's `config:` (a file of configs/) gives its base `inertial:`
 settings, the entry's own `inertial:` keys go over them.
 
@@ -38,6 +40,8 @@ COLUMNS = [
     ("rot_filter", "rotation filter deg"), ("yaw_known_s", "yaw known s"),
     ("nees_position", "NEES pos"), ("nees_pose", "NEES pose"),
     ("nees_pose_yaw", "NEES pose yaw-aligned"), ("nees_bias", "NEES bias"),
+    ("nees_gyro_bias", "NEES gyro bias"), ("nees_accel_bias", "NEES accel bias"),
+    ("nees_bias_after_yaw", "NEES bias after yaw"),
     ("median_ms", "update median ms"), ("p99_ms", "update p99 ms"),
     ("target_ms", "target ms"), ("batch_s", "batch s"), ("ok", "ok"),
 ]
@@ -111,6 +115,10 @@ def run_entry(entry, args, tmp, index):
         row["nees_pose"] = nees["pose"]["mean"]
         row["nees_pose_yaw"] = nees["yaw_aligned"]["pose"]["mean"]
         row["nees_bias"] = nees["bias"]["mean"]
+        row["nees_gyro_bias"] = nees["gyro_bias"]["mean"]
+        row["nees_accel_bias"] = nees["accel_bias"]["mean"]
+        if "after_yaw" in nees:
+            row["nees_bias_after_yaw"] = nees["after_yaw"]["bias"]["mean"]
     if row.get("ate_window") is not None and row.get("ate_batch"):
         row["ratio"] = row["ate_window"] / row["ate_batch"]
     ok = row["median_ms"] is not None and row["p99_ms"] is not None and \

@@ -163,14 +163,23 @@ TEST(InertialCommandTest, CovarianceCsvNeesReportAndGroundTruthBias) {
             0.0);
   const YAML::Node nees = report["evaluation"]["window_filter"]["nees"];
   ASSERT_TRUE(nees.IsMap()) << ReadText(dir + "/report.json");
-  for (const char* block : {"position", "pose", "velocity", "bias"}) {
+  for (const char* block :
+       {"position", "pose", "velocity", "bias", "gyro_bias", "accel_bias"}) {
     for (const char* stat : {"mean", "median"}) {
       EXPECT_GT(nees[block][stat].as<double>(), 0.0) << block << " " << stat;
       EXPECT_GT(nees["yaw_aligned"][block][stat].as<double>(), 0.0)
           << block << " " << stat;
+      // The ground-truth start knows the yaw from the start: after_yaw is
+      // the same keyframes as the whole.
+      EXPECT_EQ(nees["after_yaw"][block][stat].as<double>(),
+                nees[block][stat].as<double>())
+          << block << " " << stat;
     }
   }
   EXPECT_EQ(nees["pose"]["dof"].as<int>(), 6);
+  EXPECT_EQ(nees["gyro_bias"]["dof"].as<int>(), 3);
+  EXPECT_EQ(nees["after_yaw"]["keyframes"].as<int>(),
+            nees["keyframes"].as<int>());
   EXPECT_EQ(report["noise"]["gyro_noise_inflation"].as<double>(), 1.0);
   EXPECT_EQ(report["noise"]["accel_noise_density"].as<double>(), 2.0e-3);
   EXPECT_EQ(nees["skip_seconds"].as<double>(), 10.0);

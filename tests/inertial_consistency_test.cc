@@ -80,6 +80,8 @@ TEST(InertialNeesTest, RightPerturbationErrorsGiveMeanNeesEqualToDimension) {
       acc->pose += v.pose / kSamples;
       acc->velocity += v.velocity / kSamples;
       acc->bias += v.bias / kSamples;
+      acc->gyro_bias += v.gyro_bias / kSamples;
+      acc->accel_bias += v.accel_bias / kSamples;
     }
   }
   // Standard deviation of the mean of 4000 chi2(k): sqrt(2k / 4000), at most
@@ -88,6 +90,9 @@ TEST(InertialNeesTest, RightPerturbationErrorsGiveMeanNeesEqualToDimension) {
   EXPECT_NEAR(sum.pose, 6.0, 0.22);
   EXPECT_NEAR(sum.velocity, 3.0, 0.16);
   EXPECT_NEAR(sum.bias, 6.0, 0.22);
+  EXPECT_NEAR(sum.gyro_bias, 3.0, 0.16);
+  EXPECT_NEAR(sum.accel_bias, 3.0, 0.16);
+  EXPECT_NEAR(sum_half.accel_bias, 6.0, 0.32);
   EXPECT_NEAR(sum_double.pose, 3.0, 0.11);
   EXPECT_NEAR(sum_half.pose, 12.0, 0.44);
   // Not positive definite: refused.

@@ -83,7 +83,11 @@ bool ComputeInertialNees(const Eigen::Matrix<double, 15, 1>& error,
          Mahalanobis(error.segment<3>(6), covariance.block(6, 6, 3, 3),
                      &nees->velocity) &&
          Mahalanobis(error.segment<6>(9), covariance.block(9, 9, 6, 6),
-                     &nees->bias);
+                     &nees->bias) &&
+         Mahalanobis(error.segment<3>(9), covariance.block(9, 9, 3, 3),
+                     &nees->gyro_bias) &&
+         Mahalanobis(error.segment<3>(12), covariance.block(12, 12, 3, 3),
+                     &nees->accel_bias);
 }
 
 bool InterpolateGroundTruth(const std::vector<InertialGroundTruth>& reference,
@@ -145,18 +149,22 @@ bool SummarizeNees(const std::vector<InertialState>& states,
              std::to_string(options.skip_seconds) + " s";
     return false;
   }
-  std::vector<double> position, pose, velocity, bias;
+  std::vector<double> position, pose, velocity, bias, gyro_bias, accel_bias;
   for (const InertialNees& n : summary->per_keyframe) {
     position.push_back(n.position);
     pose.push_back(n.pose);
     velocity.push_back(n.velocity);
     bias.push_back(n.bias);
+    gyro_bias.push_back(n.gyro_bias);
+    accel_bias.push_back(n.accel_bias);
   }
   summary->keyframes = static_cast<int>(summary->per_keyframe.size());
   summary->position = Stats(position);
   summary->pose = Stats(pose);
   summary->velocity = Stats(velocity);
   summary->bias = Stats(bias);
+  summary->gyro_bias = Stats(gyro_bias);
+  summary->accel_bias = Stats(accel_bias);
   return true;
 }
 

@@ -17,7 +17,7 @@
 //                                world-frame covariance R P_rr R^T)
 //   pose      rho, phi   6 dof
 //   velocity  dv         3 dof
-//   bias      dbg, dba   6 dof
+//   bias      dbg, dba   6 dof (and each alone: gyro_bias, accel_bias, 3)
 // For a consistent estimator with Gaussian errors each is chi2(dof)
 // distributed: mean = dof over many keyframes/runs. Larger means an
 // overconfident covariance (or biased estimate), smaller a conservative one.
@@ -51,10 +51,12 @@ Eigen::Matrix<double, 15, 1> InertialStateError(
     const InertialState& estimate, const InertialGroundTruth& truth);
 
 struct InertialNees {
-  double position = 0.0;  // 3 dof
-  double pose = 0.0;      // 6 dof
-  double velocity = 0.0;  // 3 dof
-  double bias = 0.0;      // 6 dof
+  double position = 0.0;    // 3 dof
+  double pose = 0.0;        // 6 dof
+  double velocity = 0.0;    // 3 dof
+  double bias = 0.0;        // 6 dof
+  double gyro_bias = 0.0;   // 3 dof, dbg alone
+  double accel_bias = 0.0;  // 3 dof, dba alone
 };
 
 // NEES of each block of `error` under the 15 x 15 `covariance`. False when a
@@ -85,7 +87,7 @@ struct NeesStats {
 
 struct NeesSummary {
   int keyframes = 0;  // Keyframes evaluated (after skip, with a reference).
-  NeesStats position, pose, velocity, bias;
+  NeesStats position, pose, velocity, bias, gyro_bias, accel_bias;
   std::vector<TimeNs> stamps;  // Per evaluated keyframe.
   std::vector<InertialNees> per_keyframe;
 };
