@@ -584,6 +584,39 @@ struct FlightFigures {
   return ::testing::AssertionSuccess();
 }
 
+// The benchmark's gentle entry (configs/benchmarks/inertial.yaml: a moving
+// start on GentleFlight's figure, its biases, the EuRoC noise) flown with
+// seeds 27 and 29. The alignment's (cos, sin) of the yaw came out with norms
+// of 1.28-1.43 at sigmas of 0.10-0.15 from 12 s on, and a fixed 0.8-1.25
+// band on the norm threw those fits away: the yaw was known only after
+// 25.3 and 16.2 s (bias NEES 14.9 and 13.8 over the flight). The norm is
+// now tested against its own sigma (kUnitNormSigmas): both within 15 s.
+TEST(InertialFlightTest, AlignmentNormWithinItsSigmaKeepsTheFit) {
+  InertialOptions options = EurocOptions();
+  for (unsigned seed : {27u, 29u}) {
+    InertialSimulationConfig config;
+    config.duration = 90.0;  // The benchmark's (the fixes' noise is drawn
+                             // after the readings').
+    config.position_rate = 10.0;
+    config.position_sigma = options.position_sigma;
+    config.noise = options.noise;
+    config.seed = seed;
+    config.initial_gyro_bias = Eigen::Vector3d(-0.002, 0.021, 0.076);
+    config.initial_accel_bias = Eigen::Vector3d(-0.013, 0.103, 0.093);
+    config.trajectory = GentleFlight();
+    InertialData data;
+    std::string error;
+    ASSERT_TRUE(SimulateInertial(config, &data, &error)) << error;
+    data.has_initial_state = false;
+    InertialRun run;
+    ASSERT_TRUE(RunSlidingWindow(data, options, &run, nullptr, &error))
+        << error;
+    std::printf("seed %u: %s\n", seed, run.initialization_summary.c_str());
+    ASSERT_TRUE(run.yaw_observable) << run.initialization_summary;
+    EXPECT_LT(run.yaw_observable_after_seconds, 15.0) << "seed " << seed;
+  }
+}
+
 TEST(InertialFlightTest, GentleFlightAlignsTheYawWithinTenSeconds) {
   const InertialOptions options = EurocOptions();
   for (unsigned seed : {11u, 12u}) {
