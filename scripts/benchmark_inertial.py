@@ -115,8 +115,10 @@ def run_entry(entry, args, tmp, index):
         row["nees_pose"] = nees["pose"]["mean"]
         row["nees_pose_yaw"] = nees["yaw_aligned"]["pose"]["mean"]
         row["nees_bias"] = nees["bias"]["mean"]
-        row["nees_gyro_bias"] = nees["gyro_bias"]["mean"]
-        row["nees_accel_bias"] = nees["accel_bias"]["mean"]
+        # Older builds (--slam) report the bias as one block only.
+        for key in ("gyro_bias", "accel_bias"):
+            if key in nees:
+                row["nees_" + key] = nees[key]["mean"]
         if "after_yaw" in nees:
             row["nees_bias_after_yaw"] = nees["after_yaw"]["bias"]["mean"]
     if row.get("ate_window") is not None and row.get("ate_batch"):
