@@ -229,8 +229,15 @@ bool EvaluateNees(const std::string& name,
                     after_options.skip_seconds);
       PrintRow(line, after, out);
       JsonObject after_json = BlocksJson(after);
+      // The real-time rotation error once the heading is known (issue 25's
+      // rotation target; before it the heading is arbitrary).
       after_json.Add("keyframes", after.keyframes)
-          .Add("skip_seconds", after_options.skip_seconds);
+          .Add("skip_seconds", after_options.skip_seconds)
+          .Add("rotation_rmse_deg", after.rotation_rmse * 180.0 / M_PI);
+      std::snprintf(line, sizeof(line),
+                    "  rotation error after the yaw: %.2f deg rmse\n",
+                    after.rotation_rmse * 180.0 / M_PI);
+      out << line;
       json->Add("after_yaw", after_json);
     }
   }

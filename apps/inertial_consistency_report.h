@@ -46,7 +46,7 @@ bool ParseCovarianceCsv(const std::string& text, std::vector<TimeNs>* stamps,
 //   {keyframes, skip_seconds,
 //    position|pose|velocity|bias|gyro_bias|accel_bias: {mean, median, dof},
 //    yaw_aligned: {yaw_offset_deg, position|...: ...},
-//    after_yaw: {keyframes, skip_seconds, position|...: ...}}
+//    after_yaw: {keyframes, skip_seconds, rotation_rmse_deg, position|...}}
 // after_yaw (when yaw_known_seconds >= 0, the seconds after the start at
 // which the heading became known) counts only the keyframes from there (and
 // after skip_seconds).

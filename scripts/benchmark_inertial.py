@@ -37,7 +37,9 @@ COLUMNS = [
     ("name", "run"), ("keyframes", "keyframes"), ("window_size", "window"),
     ("ate_window", "ATE window m"), ("ate_filter", "ATE filter m"),
     ("ate_batch", "ATE batch m"), ("ratio", "window/batch"),
-    ("rot_filter", "rotation filter deg"), ("yaw_known_s", "yaw known s"),
+    ("rot_filter", "rotation filter deg"),
+    ("rot_after_yaw", "rotation filter after yaw and 10 s deg"),
+    ("yaw_known_s", "yaw known s"),
     ("nees_position", "NEES pos"), ("nees_pose", "NEES pose"),
     ("nees_pose_yaw", "NEES pose yaw-aligned"), ("nees_bias", "NEES bias"),
     ("nees_gyro_bias", "NEES gyro bias"), ("nees_accel_bias", "NEES accel bias"),
@@ -121,6 +123,7 @@ def run_entry(entry, args, tmp, index):
                 row["nees_" + key] = nees[key]["mean"]
         if "after_yaw" in nees:
             row["nees_bias_after_yaw"] = nees["after_yaw"]["bias"]["mean"]
+            row["rot_after_yaw"] = nees["after_yaw"]["rotation_rmse_deg"]
     if row.get("ate_window") is not None and row.get("ate_batch"):
         row["ratio"] = row["ate_window"] / row["ate_batch"]
     ok = row["median_ms"] is not None and row["p99_ms"] is not None and \

@@ -180,6 +180,9 @@ TEST(InertialCommandTest, CovarianceCsvNeesReportAndGroundTruthBias) {
   EXPECT_EQ(nees["gyro_bias"]["dof"].as<int>(), 3);
   EXPECT_EQ(nees["after_yaw"]["keyframes"].as<int>(),
             nees["keyframes"].as<int>());
+  // The real-time rotation error from there: small from the true start.
+  EXPECT_GT(nees["after_yaw"]["rotation_rmse_deg"].as<double>(), 0.0);
+  EXPECT_LT(nees["after_yaw"]["rotation_rmse_deg"].as<double>(), 3.0);
   EXPECT_EQ(report["noise"]["gyro_noise_inflation"].as<double>(), 1.0);
   EXPECT_EQ(report["noise"]["accel_noise_density"].as<double>(), 2.0e-3);
   EXPECT_EQ(nees["skip_seconds"].as<double>(), 10.0);

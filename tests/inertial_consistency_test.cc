@@ -217,9 +217,13 @@ TEST(InertialNeesTest, YawOffsetOfTheReferenceIsRecognisedAndRemoved) {
   ASSERT_TRUE(SummarizeNees(states, covs, ref, options, &raw, &error)) << error;
   EXPECT_EQ(raw.keyframes, 40);  // 50 minus the first 0.5 s.
   EXPECT_GT(raw.pose.mean, 100.0);
+  // Every estimate is off by the yaw about the world's z: a body-frame
+  // rotation error of the same angle.
+  EXPECT_NEAR(raw.rotation_rmse, yaw, 1e-9);
   options.yaw_offset = yaw;
   ASSERT_TRUE(SummarizeNees(states, covs, ref, options, &aligned, &error));
   EXPECT_LT(aligned.pose.mean, 1e-12);
+  EXPECT_LT(aligned.rotation_rmse, 1e-9);
   EXPECT_LT(aligned.position.mean, 1e-12);
   // Mismatched sizes and nothing to evaluate are errors.
   covs.pop_back();

@@ -127,22 +127,23 @@ bool SummarizeNees(const std::vector<InertialState>& states,
     return false;
   }
   bool ok = true;
-  ForEachEvaluated(
-      states, reference, options, options.yaw_offset,
-      [&](size_t k, const InertialGroundTruth& truth) {
-        InertialNees nees;
-        if (!ok) return;
-        if (!ComputeInertialNees(InertialStateError(states[k], truth),
-                                 covariances[k], &nees)) {
-          *error = "NEES: the covariance of the keyframe at " +
-                   std::to_string(states[k].stamp) +
-                   " ns is not positive definite";
-          ok = false;
-          return;
-        }
-        summary->stamps.push_back(states[k].stamp);
-        summary->per_keyframe.push_back(nees);
-      });
+  ForEachEvaluated(states, reference, options, options.yaw_offset,
+                   [&](size_t k, const InertialGroundTruth& truth) {
+                     InertialNees nees;
+                     if (!ok) return;
+                     const Eigen::Matrix<double, 15, 1> e =
+                         InertialStateError(states[k], truth);
+                     if (!ComputeInertialNees(e, covariances[k], &nees)) {
+                       *error = "NEES: the covariance of the keyframe at " +
+                                std::to_string(states[k].stamp) +
+                                " ns is not positive definite";
+                       ok = false;
+                       return;
+                     }
+                     summary->stamps.push_back(states[k].stamp);
+                     summary->per_keyframe.push_back(nees);
+                     summary->rotation_rmse += e.segment<3>(3).squaredNorm();
+                   });
   if (!ok) return false;
   if (summary->per_keyframe.empty()) {
     *error = "NEES: no keyframe with a ground-truth state after the first " +
@@ -159,6 +160,8 @@ bool SummarizeNees(const std::vector<InertialState>& states,
     accel_bias.push_back(n.accel_bias);
   }
   summary->keyframes = static_cast<int>(summary->per_keyframe.size());
+  summary->rotation_rmse =
+      std::sqrt(summary->rotation_rmse / summary->per_keyframe.size());
   summary->position = Stats(position);
   summary->pose = Stats(pose);
   summary->velocity = Stats(velocity);

@@ -90,6 +90,9 @@ struct NeesSummary {
   NeesStats position, pose, velocity, bias, gyro_bias, accel_bias;
   std::vector<TimeNs> stamps;  // Per evaluated keyframe.
   std::vector<InertialNees> per_keyframe;
+  // Root mean square of the rotation error |phi| over the same keyframes
+  // (radians; under options.yaw_offset when set).
+  double rotation_rmse = 0.0;
 };
 
 // NEES of every state (with its covariance, the same order) against the
