@@ -7,6 +7,7 @@
 #include <future>
 #include <limits>
 #include <map>
+#include <utility>
 #include <memory>
 
 #include <opencv2/calib3d.hpp>
@@ -706,9 +707,13 @@ void StereoOdometry::RemoveOutlierObservations(
   }
 }
 
-// Step 8's problem and what to do after it. On its thread the problem
-// works on `values` (copies of the graph values of its blocks, in the order
-// they enter it), written back at the merge.
+// Step 8's problem and what to do after it. The problem works on `values`
+// (copies of the graph values of its blocks, in the order they enter it),
+// written back at the merge, inline or on its thread alike: Ceres orders
+// the blocks of an elimination group by their addresses, so on the graph's
+// own arrays the elimination order (and the rounding of the solve) followed
+// where the heap had put them, which the image prefetch thread changes from
+// run to run; in one buffer, address order is the order they entered.
 struct StereoOdometry::LocalBaJob {
   int64_t newest = 0;
   std::vector<int64_t> points;  // For the outlier test after the solve.
@@ -737,13 +742,16 @@ StereoOdometry::~StereoOdometry() {
 void StereoOdometry::WaitForLocalMapping() {
   if (!local_ba_done_.valid()) return;
   local_ba_done_.get();
-  LocalBaJob& job = *local_ba_job_;
+  MergeLocalBundleAdjustment(*local_ba_job_);
+  local_ba_job_.reset();
+}
+
+void StereoOdometry::MergeLocalBundleAdjustment(const LocalBaJob& job) {
   for (const LocalBaJob::Block& b : job.blocks) {
     std::copy(job.values.begin() + b.offset,
               job.values.begin() + b.offset + b.size, b.graph_value);
   }
   CompleteLocalBundleAdjustment(job);
-  local_ba_job_.reset();
 }
 
 void StereoOdometry::LocalBundleAdjustment(int64_t newest) {
@@ -787,9 +795,9 @@ void StereoOdometry::LocalBundleAdjustment(int64_t newest) {
       add(graph_.FindFactor(odometry_factor_[k]), true);
       if (k - 1 < first) fixed.push_back(k - 1);
     }
-    // The values the problem works on: the graph's, or copies.
+    // The values the problem works on: copies in one buffer (LocalBaJob).
     std::map<double*, double*> copy;
-    if (thread) {
+    {
       size_t total = 0;
       for (size_t i = 0; i < factors.size(); ++i) {
         for (size_t b = 0; b < factor_blocks[i].size(); ++b) {
@@ -808,7 +816,7 @@ void StereoOdometry::LocalBundleAdjustment(int64_t newest) {
         copy[b.graph_value] = c;
       }
     }
-    auto block = [&](double* v) { return thread ? copy.at(v) : v; };
+    auto block = [&](double* v) { return copy.at(v); };
     job->problem = std::make_unique<ceres::Problem>(Graph::ProblemOptions());
     ceres::Problem& problem = *job->problem;
     auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
@@ -838,7 +846,7 @@ void StereoOdometry::LocalBundleAdjustment(int64_t newest) {
     // window (and always by keyframe 0).
     if (fixed.empty() || first == 0) {
       double* oldest = graph_.FindNode(Pose3Key(first))->value.data();
-      if (thread) oldest = copy.count(oldest) ? copy.at(oldest) : nullptr;
+      oldest = copy.count(oldest) ? copy.at(oldest) : nullptr;
       if (oldest != nullptr && problem.HasParameterBlock(oldest))
         problem.SetParameterBlockConstant(oldest);
     }
@@ -854,7 +862,7 @@ void StereoOdometry::LocalBundleAdjustment(int64_t newest) {
     return;
   }
   job->Solve();
-  CompleteLocalBundleAdjustment(*job);
+  MergeLocalBundleAdjustment(*job);
 }
 
 void StereoOdometry::CompleteLocalBundleAdjustment(const LocalBaJob& job) {
@@ -1096,8 +1104,31 @@ void StereoOdometry::Finish() {
   ceres::Problem problem(Graph::ProblemOptions());
   auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
   const ceres::Manifold* manifold = graph_.ManifoldFor(NodeKind::kPose3);
+  // On copies in one buffer, in the order the blocks enter (see LocalBaJob:
+  // Ceres orders an elimination group's blocks by address).
+  std::vector<std::pair<double*, size_t>> originals;  // Graph value, offset.
+  std::map<double*, size_t> offset_of;
+  size_t total = 0;
+  for (const auto& [id, factor] : graph_.factors()) {
+    const std::vector<double*> blocks = graph_.ParameterBlocks(factor);
+    for (size_t b = 0; b < blocks.size(); ++b) {
+      if (!offset_of.emplace(blocks[b], total).second) continue;
+      originals.emplace_back(blocks[b], total);
+      total += graph_.FindNode(factor.keys[b])->value.size();
+    }
+  }
+  std::vector<double> values(total);
+  const auto size_at = [&](size_t i) {
+    return (i + 1 < originals.size() ? originals[i + 1].second : total) -
+           originals[i].second;
+  };
+  for (size_t i = 0; i < originals.size(); ++i) {
+    std::copy(originals[i].first, originals[i].first + size_at(i),
+              values.data() + originals[i].second);
+  }
   for (const auto& [id, factor] : graph_.factors()) {
     std::vector<double*> blocks = graph_.ParameterBlocks(factor);
+    for (double*& v : blocks) v = values.data() + offset_of.at(v);
     problem.AddResidualBlock(factor.cost.get(), factor.loss.get(), blocks);
     // Points first in the elimination; poses (also both ends of a loop
     // constraint) on their manifold.
@@ -1111,8 +1142,9 @@ void StereoOdometry::Finish() {
     }
   }
   double* first = graph_.FindNode(Pose3Key(0))->value.data();
-  if (problem.HasParameterBlock(first))
-    problem.SetParameterBlockConstant(first);
+  if (offset_of.count(first)) {
+    problem.SetParameterBlockConstant(values.data() + offset_of.at(first));
+  }
   ceres::Solver::Options options =
       SolverOptions(config_.final_ba_iterations, ceres::SPARSE_SCHUR);
   options.linear_solver_ordering = ordering;
@@ -1122,6 +1154,10 @@ void StereoOdometry::Finish() {
     // core/openmp_scope.h.
     const SerialOpenMpScope serial_openmp;
     ceres::Solve(options, &problem, &summary);
+  }
+  for (size_t i = 0; i < originals.size(); ++i) {
+    const double* copy = values.data() + originals[i].second;
+    std::copy(copy, copy + size_at(i), originals[i].first);
   }
   stats_.global_ba_initial_chi2 = CeresCostToChi2(summary.initial_cost);
   stats_.global_ba_final_chi2 = CeresCostToChi2(summary.final_cost);

@@ -436,6 +436,8 @@ class StereoOdometry {
   struct LocalBaJob;
   // After the solve: the outlier observations removed, points culled.
   void CompleteLocalBundleAdjustment(const LocalBaJob& job);
+  // The job's values written back to the graph, then the above.
+  void MergeLocalBundleAdjustment(const LocalBaJob& job);
   void RemoveOutlierObservations(const std::vector<int64_t>& points);
   void RemoveObservation(int64_t point, size_t observation);
   // Removes the point if fewer than min_point_observations keyframes see
