@@ -7,8 +7,8 @@
 #include <future>
 #include <limits>
 #include <map>
-#include <utility>
 #include <memory>
+#include <utility>
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
@@ -707,25 +707,65 @@ void StereoOdometry::RemoveOutlierObservations(
   }
 }
 
-// Step 8's problem and what to do after it. The problem works on `values`
-// (copies of the graph values of its blocks, in the order they enter it),
-// written back at the merge, inline or on its thread alike: Ceres orders
-// the blocks of an elimination group by their addresses, so on the graph's
-// own arrays the elimination order (and the rounding of the solve) followed
-// where the heap had put them, which the image prefetch thread changes from
-// run to run; in one buffer, address order is the order they entered.
-struct StereoOdometry::LocalBaJob {
-  int64_t newest = 0;
-  std::vector<int64_t> points;  // For the outlier test after the solve.
-  std::unique_ptr<ceres::Problem> problem;
-  ceres::Solver::Options options;
-  std::vector<double> values;
+namespace {
+
+// Copies of graph values in one buffer, in the order they were added, for
+// a bundle adjustment to work on and write back. Ceres orders the blocks
+// of an elimination group by their addresses, so on the graph's own arrays
+// the elimination order (and the rounding of the solve) followed where the
+// heap had put them, which the image prefetch thread changes from run to
+// run; in one buffer, address order is the order of Add.
+class ValueCopies {
+ public:
+  // First pass: each graph value once (repeats are ignored).
+  void Add(double* graph_value, size_t size) {
+    if (!offset_.emplace(graph_value, total_).second) return;
+    blocks_.push_back({graph_value, total_, size});
+    total_ += size;
+  }
+  // Then: the buffer, filled from the graph.
+  void CopyIn() {
+    values_.resize(total_);
+    for (const Block& b : blocks_) {
+      std::copy(b.graph_value, b.graph_value + b.size,
+                values_.data() + b.offset);
+    }
+  }
+  bool Has(const double* graph_value) const {
+    return offset_.count(graph_value) > 0;
+  }
+  double* At(const double* graph_value) {
+    return values_.data() + offset_.at(graph_value);
+  }
+  void WriteBack() const {
+    for (const Block& b : blocks_) {
+      std::copy(values_.begin() + b.offset, values_.begin() + b.offset + b.size,
+                b.graph_value);
+    }
+  }
+
+ private:
   struct Block {
     double* graph_value;
     size_t offset;
     size_t size;
   };
-  std::vector<Block> blocks;
+  std::vector<Block> blocks_;
+  std::map<const double*, size_t> offset_;
+  std::vector<double> values_;
+  size_t total_ = 0;
+};
+
+}  // namespace
+
+// Step 8's problem and what to do after it. The problem works on `values`
+// (ValueCopies), written back at the merge, inline or on its thread alike.
+struct StereoOdometry::LocalBaJob {
+  int64_t newest = 0;
+  std::vector<int64_t> points;  // For the outlier test after the solve.
+  std::unique_ptr<ceres::Problem> problem;
+  ceres::Solver::Options options;
+  ValueCopies values;
   void Solve() {
     if (problem == nullptr) return;
     ceres::Solver::Summary summary;
@@ -747,10 +787,7 @@ void StereoOdometry::WaitForLocalMapping() {
 }
 
 void StereoOdometry::MergeLocalBundleAdjustment(const LocalBaJob& job) {
-  for (const LocalBaJob::Block& b : job.blocks) {
-    std::copy(job.values.begin() + b.offset,
-              job.values.begin() + b.offset + b.size, b.graph_value);
-  }
+  job.values.WriteBack();
   CompleteLocalBundleAdjustment(job);
 }
 
@@ -795,28 +832,15 @@ void StereoOdometry::LocalBundleAdjustment(int64_t newest) {
       add(graph_.FindFactor(odometry_factor_[k]), true);
       if (k - 1 < first) fixed.push_back(k - 1);
     }
-    // The values the problem works on: copies in one buffer (LocalBaJob).
-    std::map<double*, double*> copy;
-    {
-      size_t total = 0;
-      for (size_t i = 0; i < factors.size(); ++i) {
-        for (size_t b = 0; b < factor_blocks[i].size(); ++b) {
-          double* v = factor_blocks[i][b];
-          if (!copy.emplace(v, nullptr).second) continue;
-          const size_t size =
-              graph_.FindNode(factors[i]->keys[b])->value.size();
-          job->blocks.push_back({v, total, size});
-          total += size;
-        }
-      }
-      job->values.resize(total);
-      for (const LocalBaJob::Block& b : job->blocks) {
-        double* c = job->values.data() + b.offset;
-        std::copy(b.graph_value, b.graph_value + b.size, c);
-        copy[b.graph_value] = c;
+    // The values the problem works on: copies in one buffer (ValueCopies).
+    for (size_t i = 0; i < factors.size(); ++i) {
+      for (size_t b = 0; b < factor_blocks[i].size(); ++b) {
+        job->values.Add(factor_blocks[i][b],
+                        graph_.FindNode(factors[i]->keys[b])->value.size());
       }
     }
-    auto block = [&](double* v) { return copy.at(v); };
+    job->values.CopyIn();
+    auto block = [&](double* v) { return job->values.At(v); };
     job->problem = std::make_unique<ceres::Problem>(Graph::ProblemOptions());
     ceres::Problem& problem = *job->problem;
     auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
@@ -846,7 +870,7 @@ void StereoOdometry::LocalBundleAdjustment(int64_t newest) {
     // window (and always by keyframe 0).
     if (fixed.empty() || first == 0) {
       double* oldest = graph_.FindNode(Pose3Key(first))->value.data();
-      oldest = copy.count(oldest) ? copy.at(oldest) : nullptr;
+      oldest = job->values.Has(oldest) ? job->values.At(oldest) : nullptr;
       if (oldest != nullptr && problem.HasParameterBlock(oldest))
         problem.SetParameterBlockConstant(oldest);
     }
@@ -1104,31 +1128,18 @@ void StereoOdometry::Finish() {
   ceres::Problem problem(Graph::ProblemOptions());
   auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
   const ceres::Manifold* manifold = graph_.ManifoldFor(NodeKind::kPose3);
-  // On copies in one buffer, in the order the blocks enter (see LocalBaJob:
-  // Ceres orders an elimination group's blocks by address).
-  std::vector<std::pair<double*, size_t>> originals;  // Graph value, offset.
-  std::map<double*, size_t> offset_of;
-  size_t total = 0;
+  // On copies in one buffer, in the order the blocks enter (ValueCopies).
+  ValueCopies values;
   for (const auto& [id, factor] : graph_.factors()) {
     const std::vector<double*> blocks = graph_.ParameterBlocks(factor);
     for (size_t b = 0; b < blocks.size(); ++b) {
-      if (!offset_of.emplace(blocks[b], total).second) continue;
-      originals.emplace_back(blocks[b], total);
-      total += graph_.FindNode(factor.keys[b])->value.size();
+      values.Add(blocks[b], graph_.FindNode(factor.keys[b])->value.size());
     }
   }
-  std::vector<double> values(total);
-  const auto size_at = [&](size_t i) {
-    return (i + 1 < originals.size() ? originals[i + 1].second : total) -
-           originals[i].second;
-  };
-  for (size_t i = 0; i < originals.size(); ++i) {
-    std::copy(originals[i].first, originals[i].first + size_at(i),
-              values.data() + originals[i].second);
-  }
+  values.CopyIn();
   for (const auto& [id, factor] : graph_.factors()) {
     std::vector<double*> blocks = graph_.ParameterBlocks(factor);
-    for (double*& v : blocks) v = values.data() + offset_of.at(v);
+    for (double*& v : blocks) v = values.At(v);
     problem.AddResidualBlock(factor.cost.get(), factor.loss.get(), blocks);
     // Points first in the elimination; poses (also both ends of a loop
     // constraint) on their manifold.
@@ -1142,9 +1153,7 @@ void StereoOdometry::Finish() {
     }
   }
   double* first = graph_.FindNode(Pose3Key(0))->value.data();
-  if (offset_of.count(first)) {
-    problem.SetParameterBlockConstant(values.data() + offset_of.at(first));
-  }
+  if (values.Has(first)) problem.SetParameterBlockConstant(values.At(first));
   ceres::Solver::Options options =
       SolverOptions(config_.final_ba_iterations, ceres::SPARSE_SCHUR);
   options.linear_solver_ordering = ordering;
@@ -1155,10 +1164,7 @@ void StereoOdometry::Finish() {
     const SerialOpenMpScope serial_openmp;
     ceres::Solve(options, &problem, &summary);
   }
-  for (size_t i = 0; i < originals.size(); ++i) {
-    const double* copy = values.data() + originals[i].second;
-    std::copy(copy, copy + size_at(i), originals[i].first);
-  }
+  values.WriteBack();
   stats_.global_ba_initial_chi2 = CeresCostToChi2(summary.initial_cost);
   stats_.global_ba_final_chi2 = CeresCostToChi2(summary.final_cost);
   std::vector<int64_t> all;

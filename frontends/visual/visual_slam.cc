@@ -141,8 +141,7 @@ bool VisualSlam::CloseLoops(const VisualSlamCallbacks& callbacks,
   const size_t needed =
       static_cast<size_t>(bow::MinKeyframesForALoop(loops.detector));
   if (odometry_->NumKeyframes() < needed) {
-    result->loop_seconds =
-        SecondsSince(loop_start) + result->vocabulary_seconds;
+    result->loop_seconds = SecondsSince(loop_start) + load_seconds;
     if (callbacks.log) {
       char line[256];
       std::snprintf(line, sizeof(line),
