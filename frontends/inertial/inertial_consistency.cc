@@ -127,6 +127,7 @@ bool SummarizeNees(const std::vector<InertialState>& states,
     return false;
   }
   bool ok = true;
+  double rotation_squared = 0.0;  // Sum of |phi|^2.
   ForEachEvaluated(states, reference, options, options.yaw_offset,
                    [&](size_t k, const InertialGroundTruth& truth) {
                      InertialNees nees;
@@ -142,7 +143,7 @@ bool SummarizeNees(const std::vector<InertialState>& states,
                      }
                      summary->stamps.push_back(states[k].stamp);
                      summary->per_keyframe.push_back(nees);
-                     summary->rotation_rmse += e.segment<3>(3).squaredNorm();
+                     rotation_squared += e.segment<3>(3).squaredNorm();
                    });
   if (!ok) return false;
   if (summary->per_keyframe.empty()) {
@@ -161,7 +162,7 @@ bool SummarizeNees(const std::vector<InertialState>& states,
   }
   summary->keyframes = static_cast<int>(summary->per_keyframe.size());
   summary->rotation_rmse =
-      std::sqrt(summary->rotation_rmse / summary->per_keyframe.size());
+      std::sqrt(rotation_squared / summary->per_keyframe.size());
   summary->position = Stats(position);
   summary->pose = Stats(pose);
   summary->velocity = Stats(velocity);
